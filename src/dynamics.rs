@@ -1,0 +1,179 @@
+//! Equations of motion: Newton–Euler for every body, hinges as wrench pairs (DESIGN.md §1).
+//!
+//! One right-hand-side evaluation walks the bodies once and the hinges once: O(bodies +
+//! hinges). The hinge wrench of MODEL.md §4 (paper eq. 14) is applied exactly: with
+//! `F_N = [N A0] F` and `τ_N = [N A] τ`, the child receives `−F_N` at A's origin and `−τ_N`,
+//! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
+//! eq. 14 and conserves linear and angular momentum for any law.
+
+use crate::law::{HingeState, HingeWrench};
+use crate::math::{Euler321, Mat3, Vec3, quat_rate};
+use crate::model::{Hinge, Model};
+use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
+use std::cell::{Cell, RefCell};
+
+/// Kinematics of one hinge at one instant, with the frames the wrench needs.
+#[derive(Clone, Copy, Debug)]
+pub struct HingeKinematics {
+    /// The relative state handed to the law.
+    pub state: HingeState,
+    /// `[N A0]`.
+    pub dcm_n_a0: Mat3,
+    /// `[N A]`.
+    pub dcm_n_a: Mat3,
+    /// A's origin from the parent CoM, m, N components.
+    pub arm_parent_in_n: Vec3,
+    /// A's origin from the child CoM, m, N components.
+    pub arm_child_in_n: Vec3,
+}
+
+/// Relative state of hinge `h` from the motions of its parent and child (MODEL.md §2).
+///
+/// The Euler angles are taken from `[A A0]` and moved by whole turns in yaw and roll to lie
+/// nearest `theta_ref` (MODEL.md §7), so tree and loop hinges alike are continuous.
+#[inline]
+pub fn hinge_kinematics(h: &Hinge, parent: &BodyMotion, child: &BodyMotion, theta_ref: &Euler321) -> HingeKinematics {
+    let dcm_n_a0 = parent.dcm_n_b * h.dcm_parent_a0;
+    let dcm_n_a = child.dcm_n_b * h.dcm_child_a;
+    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent;
+    let arm_child = child.dcm_n_b * h.r_a_in_child;
+    let r_a = child.r_in_n + arm_child;
+    let arm_parent = r_a - parent.r_in_n;
+    let delta_n = arm_parent - arm_a0;
+    let dcm_a0_n = dcm_n_a0.transpose();
+    let delta_in_a0 = dcm_a0_n * delta_n;
+    let dcm_a_a0 = dcm_n_a.transpose() * dcm_n_a0;
+    let theta = Euler321::from_dcm(&dcm_a_a0).unwrapped_near(theta_ref);
+    // δ̇ = [A0 N](Ṙ_A − Ṙ_A0) − ω_p × δ, the rate of the A0 components.
+    let v_a0 = parent.v_in_n + parent.omega_in_n.cross(&arm_a0);
+    let v_a = child.v_in_n + child.omega_in_n.cross(&arm_child);
+    let delta_rate_in_a0 = dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n));
+    let omega_rel_in_a = dcm_n_a.transpose() * (child.omega_in_n - parent.omega_in_n);
+    HingeKinematics {
+        state: HingeState { delta_in_a0, delta_rate_in_a0, theta, omega_rel_in_a },
+        dcm_n_a0,
+        dcm_n_a,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: arm_child,
+    }
+}
+
+/// Per-evaluation work space, kept to avoid allocating in the right-hand side.
+#[derive(Debug, Default)]
+struct Scratch {
+    motions: Vec<BodyMotion>,
+    force_in_n: Vec<Vec3>,
+    torque_in_n: Vec<Vec3>,
+}
+
+/// The equations of motion of a model, with the continuous-angle references of its hinges.
+#[derive(Debug)]
+pub struct Dynamics<'m> {
+    model: &'m Model,
+    theta_refs: RefCell<Vec<Euler321>>,
+    scratch: RefCell<Scratch>,
+    evaluations: Cell<u64>,
+}
+
+/// How near pitch ±90° a hinge may come before the run stops, rad (MODEL.md §7).
+pub const GIMBAL_LOCK_MARGIN: f64 = 1e-3;
+
+impl<'m> Dynamics<'m> {
+    /// Equations of motion of `model`; `theta_refs` are the hinges' initial continuous angles.
+    pub fn new(model: &'m Model, theta_refs: Vec<Euler321>) -> Self {
+        let nb = model.bodies.len();
+        Self {
+            model,
+            theta_refs: RefCell::new(theta_refs),
+            scratch: RefCell::new(Scratch {
+                motions: vec![BodyMotion::default(); nb],
+                force_in_n: vec![Vec3::zeros(); nb],
+                torque_in_n: vec![Vec3::zeros(); nb],
+            }),
+            evaluations: Cell::new(0),
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &'m Model {
+        self.model
+    }
+
+    /// Number of right-hand-side evaluations so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations.get()
+    }
+
+    /// The hinges' current continuous-angle references.
+    pub fn theta_refs(&self) -> std::cell::Ref<'_, Vec<Euler321>> {
+        self.theta_refs.borrow()
+    }
+
+    /// Records an accepted state: moves every hinge's angle reference to its continuous
+    /// angles there. Fails, naming the hinge, if one is within [`GIMBAL_LOCK_MARGIN`] of
+    /// pitch ±90°, where 3-2-1 laws are singular (MODEL.md §7).
+    pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
+        let mut refs = self.theta_refs.borrow_mut();
+        for (i, h) in self.model.hinges.iter().enumerate() {
+            let p = BodyMotion::from_state(y, h.parent);
+            let c = BodyMotion::from_state(y, h.child);
+            let k = hinge_kinematics(h, &p, &c, &refs[i]);
+            if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
+                return Err(format!(
+                    "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (MODEL.md §7), so the hinge law is not defined there",
+                    h.name,
+                    k.state.theta.pitch.to_degrees()
+                ));
+            }
+            refs[i] = k.state.theta;
+        }
+        Ok(())
+    }
+
+    /// Right-hand side `ẏ = f(y)` (time does not appear).
+    pub fn rhs(&self, y: &[f64], dydt: &mut [f64]) {
+        self.evaluations.set(self.evaluations.get() + 1);
+        let model = self.model;
+        let refs = self.theta_refs.borrow();
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { motions, force_in_n, torque_in_n } = &mut *scratch;
+        for (i, m) in motions.iter_mut().enumerate() {
+            *m = BodyMotion::from_state(y, i);
+        }
+        force_in_n.iter_mut().for_each(|f| *f = Vec3::zeros());
+        torque_in_n.iter_mut().for_each(|t| *t = Vec3::zeros());
+
+        for (h, theta_ref) in model.hinges.iter().zip(refs.iter()) {
+            let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], theta_ref);
+            let HingeWrench { force_in_a0, torque_in_a } = h.law.wrench(&k.state);
+            let f_n = k.dcm_n_a0 * force_in_a0;
+            let tau_n = k.dcm_n_a * torque_in_a;
+            force_in_n[h.parent] += f_n;
+            torque_in_n[h.parent] += k.arm_parent_in_n.cross(&f_n) + tau_n;
+            force_in_n[h.child] -= f_n;
+            torque_in_n[h.child] -= k.arm_child_in_n.cross(&f_n) + tau_n;
+        }
+
+        for (i, body) in model.bodies.iter().enumerate() {
+            let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+            let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+            let m = &motions[i];
+            let omega_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
+            d[POS..POS + 3].copy_from_slice(&s[VEL..VEL + 3]);
+            d[QUAT..QUAT + 4].copy_from_slice(&quat_rate(&s[QUAT..QUAT + 4], &omega_b));
+            let a = force_in_n[i] / body.mass;
+            d[VEL..VEL + 3].copy_from_slice(a.as_slice());
+            // Euler's equation in body components: I ω̇ = τ − ω × I ω.
+            let tau_b = m.dcm_n_b.transpose() * torque_in_n[i];
+            let i_omega = body.inertia_in_body * omega_b;
+            let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&i_omega));
+            d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
+        }
+    }
+}
+
+impl crate::ode::OdeSystem for Dynamics<'_> {
+    fn rhs(&self, _t: f64, y: &[f64], dydt: &mut [f64]) {
+        Dynamics::rhs(self, y, dydt);
+    }
+}

@@ -1,0 +1,121 @@
+//! `foldsim`: command-line front end of the foldsim library.
+
+use clap::{Parser, Subcommand};
+use foldsim::output::CsvSink;
+use foldsim::scenario::Scenario;
+use foldsim::simulate::{RunReport, simulate};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "foldsim", version, about = "Deployment dynamics of folded spacecraft structures with flexible hinges")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario and write its outputs (MODEL.md §5) as CSV.
+    Run {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// Output CSV. Default: `run.csv` from the scenario, else `<scenario name>.csv` in
+        /// the current directory.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Run { scenario, csv, quiet } => match run(&scenario, csv, quiet) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(message) => {
+                eprintln!("error: {message}");
+                ExitCode::FAILURE
+            }
+        },
+    }
+}
+
+fn run(path: &Path, csv: Option<PathBuf>, quiet: bool) -> Result<(), String> {
+    let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
+    let target = csv.or_else(|| scenario.csv.clone()).unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.csv"))
+    });
+    let mut sink = CsvSink::create(&target, &scenario.model)?;
+    let duration = scenario.settings.duration;
+
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::new(1000);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} t = {msg} [{bar:40}] {percent}% eta {eta}")
+                .expect("static progress template")
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let mut tick = |t: f64| {
+        if let Some(b) = &bar {
+            b.set_position((1000.0 * t / duration) as u64);
+            b.set_message(format!("{t:.3} s"));
+        }
+    };
+    let result = simulate(&scenario.model, &scenario.initial, &scenario.settings, &mut sink, Some(&mut tick));
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    match result {
+        Ok(report) => {
+            let written = sink.finish()?;
+            if !quiet {
+                print_report(&scenario, &report, &written);
+            }
+            Ok(())
+        }
+        Err(e) => Err(format!("{}: {e}\nthe rows written before the failure are in {}", path.display(), sink.partial_path().display())),
+    }
+}
+
+fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
+    let d = &r.drift;
+    let rel = |x: f64, scale: f64| if scale > 0.0 { x / scale } else { x };
+    println!("foldsim run: {}", scenario.title.as_deref().unwrap_or("(untitled)"));
+    println!(
+        "  bodies {}, hinges {} ({} loop), integrator {}",
+        scenario.model.bodies.len(),
+        scenario.model.hinges.len(),
+        scenario.model.is_tree_hinge.iter().filter(|t| !**t).count(),
+        scenario.settings.integrator.name()
+    );
+    println!("  simulated time   {:.6} s", r.simulated);
+    println!("  wall time        {:.3} s", r.wall_seconds);
+    println!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
+    println!("  rhs evaluations  {}", r.rhs_evaluations);
+    println!("  output rows      {} -> {}", r.rows, csv.display());
+    println!("  drift over the run (max |x(t) - x(0)|):");
+    println!("    linear momentum P   {:.3e} kg·m/s  ({:.3e} of Σ m|v|)", d.momentum, rel(d.momentum, d.momentum_scale));
+    println!(
+        "    angular momentum H  {:.3e} kg·m²/s ({:.3e} of Σ |r×mv|+|Iω|)",
+        d.angular_momentum,
+        rel(d.angular_momentum, d.angular_momentum_scale)
+    );
+    println!("    barycenter          {:.3e} m", d.barycenter);
+    let e_rel = rel(d.energy, d.energy_initial.abs());
+    if r.energy_conserving {
+        println!("    energy E = T + V    {:.3e} J ({:.3e} relative; conserved by these laws)", d.energy, e_rel);
+    } else {
+        println!(
+            "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, or the paper-linear law, MODEL.md §4)",
+            d.energy, e_rel, d.energy_final_change
+        );
+    }
+}

@@ -1,0 +1,227 @@
+//! Rotation conventions of MODEL.md §1: elementary rotations, 3-2-1 Euler angles, their rate
+//! matrix, and quaternion helpers.
+//!
+//! A direction cosine matrix `[XY]` (named `dcm_x_y` in code) maps Y-frame components to
+//! X-frame components: `ˣv = [XY] ʸv`.
+
+use nalgebra::{Matrix3, Vector3};
+use std::f64::consts::PI;
+
+/// 3-vector of f64, SI units; the frame is named by the variable.
+pub type Vec3 = Vector3<f64>;
+/// 3×3 matrix of f64; a DCM `[XY]` or an inertia tensor, as the name says.
+pub type Mat3 = Matrix3<f64>;
+
+/// Elementary rotation about axis 1 by `a` rad (MODEL.md §1).
+pub fn m1(a: f64) -> Mat3 {
+    let (s, c) = a.sin_cos();
+    Mat3::new(1.0, 0.0, 0.0, 0.0, c, s, 0.0, -s, c)
+}
+
+/// Elementary rotation about axis 2 by `a` rad (MODEL.md §1).
+pub fn m2(a: f64) -> Mat3 {
+    let (s, c) = a.sin_cos();
+    Mat3::new(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c)
+}
+
+/// Elementary rotation about axis 3 by `a` rad (MODEL.md §1).
+pub fn m3(a: f64) -> Mat3 {
+    let (s, c) = a.sin_cos();
+    Mat3::new(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// 3-2-1 Euler angles `(yaw θ1, pitch θ2, roll θ3)` in rad.
+///
+/// `[XY] = M1(θ3) · M2(θ2) · M3(θ1)` (MODEL.md §1).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Euler321 {
+    /// θ1, rotation about axis 3, rad.
+    pub yaw: f64,
+    /// θ2, rotation about the new axis 2, rad.
+    pub pitch: f64,
+    /// θ3, rotation about the newest axis 1, rad.
+    pub roll: f64,
+}
+
+impl Euler321 {
+    /// Angles from yaw, pitch, roll in rad.
+    pub fn new(yaw: f64, pitch: f64, roll: f64) -> Self {
+        Self { yaw, pitch, roll }
+    }
+
+    /// The DCM `[XY]` of frame X relative to frame Y for these angles.
+    pub fn to_dcm(self) -> Mat3 {
+        // Closed form of M1(roll) M2(pitch) M3(yaw).
+        let (s1, c1) = self.yaw.sin_cos();
+        let (s2, c2) = self.pitch.sin_cos();
+        let (s3, c3) = self.roll.sin_cos();
+        Mat3::new(
+            c2 * c1,
+            c2 * s1,
+            -s2,
+            s3 * s2 * c1 - c3 * s1,
+            s3 * s2 * s1 + c3 * c1,
+            s3 * c2,
+            c3 * s2 * c1 + s3 * s1,
+            c3 * s2 * s1 - s3 * c1,
+            c3 * c2,
+        )
+    }
+
+    /// Principal 3-2-1 angles of a DCM `[XY]`: yaw and roll in (−π, π], pitch in [−π/2, π/2]
+    /// (MODEL.md §7).
+    pub fn from_dcm(dcm: &Mat3) -> Self {
+        let yaw = dcm[(0, 1)].atan2(dcm[(0, 0)]);
+        let pitch = -dcm[(0, 2)].clamp(-1.0, 1.0).asin();
+        let roll = dcm[(1, 2)].atan2(dcm[(2, 2)]);
+        Self { yaw, pitch, roll }
+    }
+
+    /// These angles with yaw and roll moved by whole turns to lie nearest `reference`
+    /// (continuous tracking of MODEL.md §7). Pitch is left as it is.
+    pub fn unwrapped_near(self, reference: &Euler321) -> Self {
+        Self {
+            yaw: unwrap_near(self.yaw, reference.yaw),
+            pitch: self.pitch,
+            roll: unwrap_near(self.roll, reference.roll),
+        }
+    }
+
+    /// As a vector `[yaw, pitch, roll]` = `[θ1, θ2, θ3]`, rad.
+    pub fn as_vector(self) -> Vec3 {
+        Vec3::new(self.yaw, self.pitch, self.roll)
+    }
+
+    /// The paper's torque-ordered vector `φ = [θ3, θ2, θ1]` = (roll, pitch, yaw), rad
+    /// (MODEL.md §4, paper eq. 15b).
+    pub fn phi(self) -> Vec3 {
+        Vec3::new(self.roll, self.pitch, self.yaw)
+    }
+
+    /// Euler-rate matrix `B(θ)`: `ω = B(θ) θ̇`, ω of X relative to Y in X components
+    /// (MODEL.md §1).
+    pub fn rate_matrix(self) -> Mat3 {
+        let (s2, c2) = self.pitch.sin_cos();
+        let (s3, c3) = self.roll.sin_cos();
+        Mat3::new(-s2, 0.0, 1.0, s3 * c2, c3, 0.0, c3 * c2, -s3, 0.0)
+    }
+
+    /// Solves `B(θ)ᵀ τ = g` for τ in closed form. `g` is a generalized force on `θ = [θ1, θ2,
+    /// θ3]`; τ is the torque (X components) whose virtual work on ω equals `g · δθ`.
+    /// Singular at pitch ±π/2, where the result is not finite.
+    pub fn torque_from_generalized(self, g: &Vec3) -> Vec3 {
+        let (s2, c2) = self.pitch.sin_cos();
+        let (s3, c3) = self.roll.sin_cos();
+        // Bᵀ = [[−s2, s3 c2, c3 c2], [0, c3, −s3], [1, 0, 0]].
+        let t1 = g.z;
+        let h = (g.x + s2 * g.z) / c2; // = s3 τ2 + c3 τ3
+        let t2 = c3 * g.y + s3 * h;
+        let t3 = -s3 * g.y + c3 * h;
+        Vec3::new(t1, t2, t3)
+    }
+
+    /// Whether pitch is within `margin` rad of ±π/2, where every 3-2-1 law is singular.
+    pub fn near_gimbal_lock(self, margin: f64) -> bool {
+        self.pitch.abs() > PI / 2.0 - margin
+    }
+}
+
+/// `angle + 2πk` for the integer k that brings it nearest `reference`, rad.
+pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
+    let turns = ((reference - angle) / (2.0 * PI)).round();
+    angle + 2.0 * PI * turns
+}
+
+/// Skew-symmetric cross-product matrix `[v×]`.
+pub fn skew(v: &Vec3) -> Mat3 {
+    Mat3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// Unit quaternion `(w, x, y, z)` (Hamilton) of a rotation, as stored in the state vector.
+///
+/// The body state stores `q_n_b`, which maps body components to N components:
+/// `[N b] = dcm_from_quat(q_n_b)`.
+pub fn quat_from_dcm(dcm_n_b: &Mat3) -> [f64; 4] {
+    let rot = nalgebra::Rotation3::from_matrix_unchecked(*dcm_n_b);
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(&rot);
+    [q.w, q.i, q.j, q.k]
+}
+
+/// DCM `[N b]` of a quaternion `(w, x, y, z)` that need not be exactly unit: it is
+/// normalized first, so the integrator's drift of |q| never reaches the physics.
+pub fn dcm_from_quat(q: &[f64]) -> Mat3 {
+    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+    let (w, x, y, z) = (q[0] / n, q[1] / n, q[2] / n, q[3] / n);
+    Mat3::new(
+        1.0 - 2.0 * (y * y + z * z),
+        2.0 * (x * y - w * z),
+        2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z),
+        1.0 - 2.0 * (x * x + z * z),
+        2.0 * (y * z - w * x),
+        2.0 * (x * z - w * y),
+        2.0 * (y * z + w * x),
+        1.0 - 2.0 * (x * x + y * y),
+    )
+}
+
+/// Quaternion rate `q̇ = ½ q ⊗ (0, ω)` for `q = q_n_b` and ω in body components, rad/s.
+pub fn quat_rate(q: &[f64], omega_in_body: &Vec3) -> [f64; 4] {
+    let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+    let (p, r, s) = (omega_in_body.x, omega_in_body.y, omega_in_body.z);
+    [
+        0.5 * (-x * p - y * r - z * s),
+        0.5 * (w * p + y * s - z * r),
+        0.5 * (w * r + z * p - x * s),
+        0.5 * (w * s + x * r - y * p),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dcm_matches_elementary_product() {
+        let e = Euler321::new(0.3, -0.7, 2.1);
+        let direct = m1(e.roll) * m2(e.pitch) * m3(e.yaw);
+        assert!((e.to_dcm() - direct).abs().max() < 1e-15);
+        let back = Euler321::from_dcm(&direct);
+        assert!((back.as_vector() - e.as_vector()).abs().max() < 1e-14);
+    }
+
+    #[test]
+    fn rate_matrix_matches_numerical_derivative() {
+        // ω = B θ̇ with [ω×] = −[XY]̇ [XY]ᵀ for ω of X relative to Y in X components.
+        let e = Euler321::new(0.4, 0.2, -1.0);
+        let rate = Vec3::new(0.3, -0.5, 0.7);
+        let h = 1e-6;
+        let ep = Euler321::new(e.yaw + h * rate.x, e.pitch + h * rate.y, e.roll + h * rate.z);
+        let em = Euler321::new(e.yaw - h * rate.x, e.pitch - h * rate.y, e.roll - h * rate.z);
+        let cdot = (ep.to_dcm() - em.to_dcm()) / (2.0 * h);
+        let w = -cdot * e.to_dcm().transpose();
+        let omega = Vec3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+        assert!((omega - e.rate_matrix() * rate).abs().max() < 1e-9);
+    }
+
+    #[test]
+    fn torque_from_generalized_inverts_rate_matrix_transpose() {
+        let e = Euler321::new(-2.0, 0.9, 0.4);
+        let g = Vec3::new(1.0, -2.0, 3.0);
+        let tau = e.torque_from_generalized(&g);
+        assert!((e.rate_matrix().transpose() * tau - g).abs().max() < 1e-13);
+    }
+
+    #[test]
+    fn quaternion_round_trip() {
+        let dcm = Euler321::new(1.0, 0.5, -2.5).to_dcm().transpose();
+        let q = quat_from_dcm(&dcm);
+        assert!((dcm_from_quat(&q) - dcm).abs().max() < 1e-14);
+    }
+
+    #[test]
+    fn unwrap_chooses_nearest_turn() {
+        assert!((unwrap_near(-3.1, 3.1) - (2.0 * PI - 3.1)).abs() < 1e-15);
+        assert!((unwrap_near(0.1, 12.0) - (0.1 + 4.0 * PI)).abs() < 1e-14);
+    }
+}

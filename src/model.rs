@@ -1,0 +1,357 @@
+//! The static description of a structure: bodies, hinges, and the spanning tree used to turn
+//! relative initial conditions into body poses (MODEL.md §2).
+
+use crate::law::HingeLaw;
+use crate::math::{Euler321, Mat3, Vec3};
+use std::collections::VecDeque;
+use thiserror::Error;
+
+/// A rigid body (MODEL.md §2). Body 0 is the hub.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Unique name, used for output columns.
+    pub name: String,
+    /// Mass, kg (> 0).
+    pub mass: f64,
+    /// Inertia tensor about the CoM in the body frame, kg·m² (symmetric positive definite,
+    /// triangle inequalities hold).
+    pub inertia_in_body: Mat3,
+    /// Inverse of `inertia_in_body`, 1/(kg·m²).
+    pub(crate) inertia_inv_in_body: Mat3,
+}
+
+/// Where a hinge's zero-force frame A0 sits in its parent (MODEL.md §2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParentFrame {
+    /// Given explicitly: origin `ᵖr_{A0/p}` (m, parent components) and `[A0 p]`.
+    Given {
+        /// `ᵖr_{A0/p}`, m, parent components.
+        r_a0_in_parent: Vec3,
+        /// `[A0 p]`.
+        dcm_a0_parent: Mat3,
+    },
+    /// Placed once where A lies when every tree coordinate is zero (loop hinges only).
+    Assembled,
+}
+
+/// A hinge as described in a scenario, before A0 frames are assembled.
+#[derive(Debug)]
+pub struct HingeSpec {
+    /// Unique name, used for output columns.
+    pub name: String,
+    /// Index of the parent body.
+    pub parent: usize,
+    /// Index of the child body.
+    pub child: usize,
+    /// A0 in the parent.
+    pub parent_frame: ParentFrame,
+    /// `ᴬr_{c/A}`: the child's CoM from A's origin, m, A components.
+    pub r_child_in_a: Vec3,
+    /// `[c A]`: the child's body frame relative to A.
+    pub dcm_child_a: Mat3,
+    /// Force and torque response.
+    pub law: Box<dyn HingeLaw>,
+}
+
+/// A hinge with both frames resolved (MODEL.md §2).
+#[derive(Debug)]
+pub struct Hinge {
+    /// Unique name, used for output columns.
+    pub name: String,
+    /// Index of the parent body.
+    pub parent: usize,
+    /// Index of the child body.
+    pub child: usize,
+    /// `ᵖr_{A0/p}`: A0's origin from the parent CoM, m, parent components.
+    pub r_a0_in_parent: Vec3,
+    /// `[A0 p]`.
+    pub dcm_a0_parent: Mat3,
+    /// `ᴬr_{c/A}`: the child's CoM from A's origin, m, A components.
+    pub r_child_in_a: Vec3,
+    /// `[c A]`.
+    pub dcm_child_a: Mat3,
+    /// `ᶜr_{A/c} = −[c A] ᴬr_{c/A}`: A's origin from the child CoM, m, child components.
+    pub(crate) r_a_in_child: Vec3,
+    /// `[p A0] = [A0 p]ᵀ`.
+    pub(crate) dcm_parent_a0: Mat3,
+    /// Force and torque response.
+    pub law: Box<dyn HingeLaw>,
+    /// Whether A0 was assembled (MODEL.md §2) rather than given.
+    pub assembled: bool,
+}
+
+/// One edge of the spanning tree, in the order bodies are placed from the hub.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TreeEdge {
+    /// The hinge.
+    pub hinge: usize,
+    /// The body already placed.
+    pub from: usize,
+    /// The body this edge places.
+    pub to: usize,
+    /// True when `to` is the hinge's parent (the edge is walked from child to parent).
+    pub reversed: bool,
+}
+
+/// The structure: bodies, hinges, and a spanning tree rooted at the hub.
+#[derive(Debug)]
+pub struct Model {
+    /// Bodies; index 0 is the hub.
+    pub bodies: Vec<Body>,
+    /// Hinges, tree and loop, in input order.
+    pub hinges: Vec<Hinge>,
+    /// Tree edges in placement order (breadth first from the hub).
+    pub tree: Vec<TreeEdge>,
+    /// For each hinge, whether it is a tree hinge.
+    pub is_tree_hinge: Vec<bool>,
+}
+
+/// What is wrong with a model, and which body or hinge it concerns.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[error("{message}")]
+pub struct ModelError {
+    /// Human-readable description naming the body or hinge and what would be valid.
+    pub message: String,
+    /// Index of the body concerned, if any.
+    pub body: Option<usize>,
+    /// Index of the hinge concerned, if any.
+    pub hinge: Option<usize>,
+}
+
+impl ModelError {
+    fn body(body: usize, message: String) -> Self {
+        Self { message, body: Some(body), hinge: None }
+    }
+    fn hinge(hinge: usize, message: String) -> Self {
+        Self { message, body: None, hinge: Some(hinge) }
+    }
+}
+
+impl Body {
+    /// A body, checked: mass > 0 and finite; inertia finite, symmetric (to 1e-12 relative),
+    /// positive definite and satisfying the triangle inequalities of its principal values.
+    pub fn new(name: &str, mass: f64, inertia_in_body: Mat3) -> Result<Self, String> {
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(format!("body '{name}': mass must be a finite number > 0 kg, got {mass}"));
+        }
+        if inertia_in_body.iter().any(|x| !x.is_finite()) {
+            return Err(format!("body '{name}': inertia has a non-finite entry"));
+        }
+        let scale = inertia_in_body.abs().max();
+        let asym = (inertia_in_body - inertia_in_body.transpose()).abs().max();
+        if asym > 1e-12 * scale {
+            return Err(format!(
+                "body '{name}': inertia tensor is not symmetric (largest |I_ij − I_ji| = {asym:e} kg·m²)"
+            ));
+        }
+        let sym = (inertia_in_body + inertia_in_body.transpose()) * 0.5;
+        let eig = sym.symmetric_eigenvalues();
+        let mut p = [eig[0], eig[1], eig[2]];
+        p.sort_by(f64::total_cmp);
+        if p[0] <= 0.0 {
+            return Err(format!(
+                "body '{name}': inertia must be positive definite; principal values are {:.6e}, {:.6e}, {:.6e} kg·m²",
+                p[0], p[1], p[2]
+            ));
+        }
+        // Triangle inequality: the largest principal value may not exceed the sum of the
+        // other two (a thin plate reaches equality); allow rounding of the input.
+        if p[2] > (p[0] + p[1]) * (1.0 + 1e-9) {
+            return Err(format!(
+                "body '{name}': principal inertias {:.6e}, {:.6e}, {:.6e} kg·m² violate the triangle inequality (the largest must not exceed the sum of the other two)",
+                p[0], p[1], p[2]
+            ));
+        }
+        let inertia_inv_in_body = sym
+            .try_inverse()
+            .ok_or_else(|| format!("body '{name}': inertia tensor is singular"))?;
+        Ok(Self { name: name.to_string(), mass, inertia_in_body: sym, inertia_inv_in_body })
+    }
+}
+
+impl Model {
+    /// Builds a model: checks the hinge graph, finds the spanning tree and assembles every
+    /// `Assembled` A0 frame.
+    ///
+    /// The tree takes, in order: first the hinges listed in `preferred` (those a scenario
+    /// gives initial values for; they must not close a loop among themselves), then the
+    /// other hinges with a given A0 in input order. Assembled hinges are never tree hinges.
+    pub fn new(bodies: Vec<Body>, specs: Vec<HingeSpec>, preferred: &[usize]) -> Result<Self, ModelError> {
+        let nb = bodies.len();
+        if nb == 0 {
+            return Err(ModelError { message: "a model needs at least one body (the hub)".into(), body: None, hinge: None });
+        }
+        for (h, s) in specs.iter().enumerate() {
+            if s.parent >= nb || s.child >= nb {
+                return Err(ModelError::hinge(h, format!("hinge '{}': body index out of range", s.name)));
+            }
+            if s.parent == s.child {
+                return Err(ModelError::hinge(
+                    h,
+                    format!("hinge '{}' joins body '{}' to itself; parent and child must differ", s.name, bodies[s.parent].name),
+                ));
+            }
+            if s.child == 0 {
+                return Err(ModelError::hinge(
+                    h,
+                    format!(
+                        "hinge '{}' has the hub '{}' as its child; the hub must be a parent (swap parent and child and their frames)",
+                        s.name, bodies[0].name
+                    ),
+                ));
+            }
+        }
+
+        // Spanning tree by union-find over preferred, then given-A0 hinges (Kruskal order).
+        let mut root: Vec<usize> = (0..nb).collect();
+        fn find(root: &mut [usize], mut i: usize) -> usize {
+            while root[i] != i {
+                root[i] = root[root[i]];
+                i = root[i];
+            }
+            i
+        }
+        let mut is_tree = vec![false; specs.len()];
+        for &h in preferred {
+            let s = &specs[h];
+            if s.parent_frame == ParentFrame::Assembled {
+                return Err(ModelError::hinge(
+                    h,
+                    format!("hinge '{}' has an assembled A0 and so is a loop hinge; it takes no initial values", s.name),
+                ));
+            }
+            let (a, b) = (find(&mut root, s.parent), find(&mut root, s.child));
+            if a == b {
+                return Err(ModelError::hinge(
+                    h,
+                    format!(
+                        "hinge '{}' closes a loop with other hinges that have initial values; give initial values only for hinges that form a tree (the loop hinge's state follows from the bodies)",
+                        s.name
+                    ),
+                ));
+            }
+            root[a] = b;
+            is_tree[h] = true;
+        }
+        for (h, s) in specs.iter().enumerate() {
+            if is_tree[h] || s.parent_frame == ParentFrame::Assembled {
+                continue;
+            }
+            let (a, b) = (find(&mut root, s.parent), find(&mut root, s.child));
+            if a != b {
+                root[a] = b;
+                is_tree[h] = true;
+            }
+        }
+        let hub_root = find(&mut root, 0);
+        for i in 1..nb {
+            if find(&mut root, i) != hub_root {
+                let through_assembled = specs.iter().any(|s| {
+                    s.parent_frame == ParentFrame::Assembled && (s.parent == i || s.child == i)
+                });
+                let hint = if through_assembled {
+                    " except through assembled hinges, which cannot be tree hinges; give one of them an explicit A0"
+                } else {
+                    "; add a hinge that connects it"
+                };
+                return Err(ModelError::body(
+                    i,
+                    format!("body '{}' is not connected to the hub '{}'{hint}", bodies[i].name, bodies[0].name),
+                ));
+            }
+        }
+
+        // Breadth-first placement order over tree hinges.
+        let mut adjacency: Vec<Vec<usize>> = vec![Vec::new(); nb];
+        for (h, s) in specs.iter().enumerate() {
+            if is_tree[h] {
+                adjacency[s.parent].push(h);
+                adjacency[s.child].push(h);
+            }
+        }
+        let mut placed = vec![false; nb];
+        placed[0] = true;
+        let mut queue = VecDeque::from([0usize]);
+        let mut tree = Vec::with_capacity(nb.saturating_sub(1));
+        while let Some(b) = queue.pop_front() {
+            for &h in &adjacency[b] {
+                let s = &specs[h];
+                let (to, reversed) = if s.parent == b { (s.child, false) } else { (s.parent, true) };
+                if !placed[to] {
+                    placed[to] = true;
+                    tree.push(TreeEdge { hinge: h, from: b, to, reversed });
+                    queue.push_back(to);
+                }
+            }
+        }
+
+        let mut hinges: Vec<Hinge> = specs
+            .into_iter()
+            .map(|s| {
+                let (r_a0_in_parent, dcm_a0_parent, assembled) = match s.parent_frame {
+                    ParentFrame::Given { r_a0_in_parent, dcm_a0_parent } => (r_a0_in_parent, dcm_a0_parent, false),
+                    ParentFrame::Assembled => (Vec3::zeros(), Mat3::identity(), true),
+                };
+                Hinge {
+                    r_a_in_child: -(s.dcm_child_a * s.r_child_in_a),
+                    dcm_parent_a0: dcm_a0_parent.transpose(),
+                    name: s.name,
+                    parent: s.parent,
+                    child: s.child,
+                    r_a0_in_parent,
+                    dcm_a0_parent,
+                    r_child_in_a: s.r_child_in_a,
+                    dcm_child_a: s.dcm_child_a,
+                    law: s.law,
+                    assembled,
+                }
+            })
+            .collect();
+
+        let mut model = Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree };
+        // Assemble A0 frames at zero tree coordinates (MODEL.md §2).
+        if hinges.iter().any(|h| h.assembled) {
+            std::mem::swap(&mut model.hinges, &mut hinges);
+            let poses = model.zero_configuration();
+            for h in model.hinges.iter_mut().filter(|h| h.assembled) {
+                let (r_p, dcm_n_p) = poses[h.parent];
+                let (r_c, dcm_n_c) = poses[h.child];
+                let r_a = r_c + dcm_n_c * h.r_a_in_child;
+                let dcm_n_a = dcm_n_c * h.dcm_child_a;
+                h.r_a0_in_parent = dcm_n_p.transpose() * (r_a - r_p);
+                h.dcm_a0_parent = dcm_n_a.transpose() * dcm_n_p;
+                h.dcm_parent_a0 = h.dcm_a0_parent.transpose();
+            }
+        } else {
+            model.hinges = hinges;
+        }
+        Ok(model)
+    }
+
+    /// Body poses `(R_i in N, [N i])` with the hub at the origin, unrotated, and every tree
+    /// coordinate zero.
+    pub fn zero_configuration(&self) -> Vec<(Vec3, Mat3)> {
+        let mut poses = vec![(Vec3::zeros(), Mat3::identity()); self.bodies.len()];
+        for e in &self.tree {
+            let h = &self.hinges[e.hinge];
+            let zero = crate::init::RelativeTwist::default();
+            poses[e.to] = crate::init::place_body(h, e.reversed, poses[e.from], Euler321::default(), &zero).0;
+        }
+        poses
+    }
+
+    /// Total mass, kg.
+    pub fn total_mass(&self) -> f64 {
+        self.bodies.iter().map(|b| b.mass).sum()
+    }
+
+    /// Index of the body with this name.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// Index of the hinge with this name.
+    pub fn hinge_index(&self, name: &str) -> Option<usize> {
+        self.hinges.iter().position(|h| h.name == name)
+    }
+}

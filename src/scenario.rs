@@ -1,0 +1,588 @@
+//! Scenario files (TOML): bodies, hinges, laws, initial state and run settings.
+//!
+//! Every key, its unit and its frame are documented in `docs/scenario.md`. Errors name the
+//! file, the line and column, and the key, and say what would be valid.
+
+use crate::init::{HingeInitial, InitialConditions, RelativeTwist};
+use crate::law::{EulerPotential, HingeLaw, LinearGains, PaperLinear};
+use crate::math::{Euler321, Mat3, Vec3};
+use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
+use crate::simulate::{Integrator, RunSettings};
+use serde::Deserialize;
+use std::collections::{BTreeMap, HashMap};
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A scenario ready to run.
+#[derive(Debug)]
+pub struct Scenario {
+    /// Optional title from the file.
+    pub title: Option<String>,
+    /// The structure.
+    pub model: Model,
+    /// Initial conditions (relative coordinates).
+    pub initial: InitialConditions,
+    /// Duration, output step and integrator.
+    pub settings: RunSettings,
+    /// Output CSV path from `run.csv`, resolved against the scenario file's directory.
+    pub csv: Option<PathBuf>,
+}
+
+/// An error in a scenario file, located by line and column where possible.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScenarioError {
+    /// The file (or a label for text not read from a file).
+    pub file: String,
+    /// 1-based line and column of the offending value, if known.
+    pub location: Option<(usize, usize)>,
+    /// What is wrong and what would be valid.
+    pub message: String,
+}
+
+impl fmt::Display for ScenarioError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.location {
+            Some((line, col)) => write!(f, "{}:{line}:{col}: {}", self.file, self.message),
+            None => write!(f, "{}: {}", self.file, self.message),
+        }
+    }
+}
+
+impl std::error::Error for ScenarioError {}
+
+// ---------------------------------------------------------------------------------------
+// Raw file structure (serde).
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    title: Option<String>,
+    run: Spanned<RawRun>,
+    #[serde(rename = "body", default)]
+    bodies: Vec<RawBody>,
+    #[serde(rename = "hinge", default)]
+    hinges: Vec<RawHinge>,
+    #[serde(default)]
+    initial: RawInitial,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRun {
+    duration: Spanned<f64>,
+    output_step: Spanned<f64>,
+    integrator: Spanned<String>,
+    rtol: Option<Spanned<f64>>,
+    atol: Option<Spanned<f64>>,
+    step: Option<Spanned<f64>>,
+    csv: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBody {
+    name: Spanned<String>,
+    mass: Spanned<f64>,
+    inertia: Spanned<toml::Value>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawHinge {
+    name: Spanned<String>,
+    parent: Spanned<String>,
+    child: Spanned<String>,
+    a0: Spanned<toml::Value>,
+    a: Spanned<RawChildFrame>,
+    law: Spanned<RawLaw>,
+}
+
+/// Angle keys shared by every table that holds an orientation.
+#[derive(Deserialize, Default, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct RawFrame {
+    position: Option<[f64; 3]>,
+    yaw: Option<f64>,
+    yaw_deg: Option<f64>,
+    pitch: Option<f64>,
+    pitch_deg: Option<f64>,
+    roll: Option<f64>,
+    roll_deg: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawChildFrame {
+    child_com: [f64; 3],
+    yaw: Option<f64>,
+    yaw_deg: Option<f64>,
+    pitch: Option<f64>,
+    pitch_deg: Option<f64>,
+    roll: Option<f64>,
+    roll_deg: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLaw {
+    #[serde(rename = "type")]
+    kind: Spanned<String>,
+    k_f: Spanned<toml::Value>,
+    k_theta: Spanned<toml::Value>,
+    c_f: Option<Spanned<toml::Value>>,
+    c_theta: Option<Spanned<toml::Value>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawInitial {
+    hub: Option<Spanned<RawHubInitial>>,
+    #[serde(default)]
+    hinge: BTreeMap<Spanned<String>, Spanned<RawHingeInitial>>,
+    #[serde(default)]
+    body: BTreeMap<Spanned<String>, Spanned<RawAngles>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawHubInitial {
+    position: Option<[f64; 3]>,
+    velocity: Option<[f64; 3]>,
+    omega: Option<[f64; 3]>,
+    yaw: Option<f64>,
+    yaw_deg: Option<f64>,
+    pitch: Option<f64>,
+    pitch_deg: Option<f64>,
+    roll: Option<f64>,
+    roll_deg: Option<f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawHingeInitial {
+    delta: Option<[f64; 3]>,
+    delta_rate: Option<[f64; 3]>,
+    omega_rel: Option<[f64; 3]>,
+    yaw: Option<f64>,
+    yaw_deg: Option<f64>,
+    pitch: Option<f64>,
+    pitch_deg: Option<f64>,
+    roll: Option<f64>,
+    roll_deg: Option<f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawAngles {
+    yaw: Option<f64>,
+    yaw_deg: Option<f64>,
+    pitch: Option<f64>,
+    pitch_deg: Option<f64>,
+    roll: Option<f64>,
+    roll_deg: Option<f64>,
+}
+
+// ---------------------------------------------------------------------------------------
+// Location helpers.
+
+struct Ctx<'a> {
+    file: &'a str,
+    text: &'a str,
+}
+
+impl Ctx<'_> {
+    fn at(&self, span: Option<Range<usize>>, message: impl Into<String>) -> ScenarioError {
+        ScenarioError {
+            file: self.file.to_string(),
+            location: span.map(|s| line_col(self.text, s.start)),
+            message: message.into(),
+        }
+    }
+    fn span<T>(&self, s: &Spanned<T>, message: impl Into<String>) -> ScenarioError {
+        self.at(Some(s.span()), message)
+    }
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rfind('\n').map_or(before.chars().count(), |i| before[i + 1..].chars().count()) + 1;
+    (line, col)
+}
+
+/// One angle from its rad or `_deg` key; both given is an error.
+fn one_angle(key: &str, rad: Option<f64>, deg: Option<f64>) -> Result<Option<f64>, String> {
+    match (rad, deg) {
+        (Some(_), Some(_)) => Err(format!("both '{key}' and '{key}_deg' are given; give one")),
+        (Some(r), None) => Ok(Some(r)),
+        (None, Some(d)) => Ok(Some(d.to_radians())),
+        (None, None) => Ok(None),
+    }
+}
+
+/// 3-2-1 angles from the six optional keys; `None` when none is given (missing ones are 0).
+fn angles(
+    yaw: Option<f64>,
+    yaw_deg: Option<f64>,
+    pitch: Option<f64>,
+    pitch_deg: Option<f64>,
+    roll: Option<f64>,
+    roll_deg: Option<f64>,
+) -> Result<Option<Euler321>, String> {
+    let y = one_angle("yaw", yaw, yaw_deg)?;
+    let p = one_angle("pitch", pitch, pitch_deg)?;
+    let r = one_angle("roll", roll, roll_deg)?;
+    if y.is_none() && p.is_none() && r.is_none() {
+        return Ok(None);
+    }
+    Ok(Some(Euler321::new(y.unwrap_or(0.0), p.unwrap_or(0.0), r.unwrap_or(0.0))))
+}
+
+fn vec3(a: Option<[f64; 3]>) -> Vec3 {
+    a.map_or_else(Vec3::zeros, |v| Vec3::new(v[0], v[1], v[2]))
+}
+
+fn number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+/// A 3×3 matrix from a scalar (times identity), 3 numbers (diagonal) or 3 rows of 3.
+fn matrix(v: &toml::Value) -> Option<Mat3> {
+    if let Some(x) = number(v) {
+        return Some(Mat3::identity() * x);
+    }
+    let arr = v.as_array()?;
+    if arr.len() != 3 {
+        return None;
+    }
+    if let Some(d) = arr.iter().map(number).collect::<Option<Vec<f64>>>() {
+        return Some(Mat3::from_diagonal(&Vec3::new(d[0], d[1], d[2])));
+    }
+    let mut m = Mat3::zeros();
+    for (i, row) in arr.iter().enumerate() {
+        let row = row.as_array()?;
+        if row.len() != 3 {
+            return None;
+        }
+        for (j, x) in row.iter().enumerate() {
+            m[(i, j)] = number(x)?;
+        }
+    }
+    Some(m)
+}
+
+/// Rejects `nan` and `inf` anywhere in the file, naming the key.
+fn check_finite(ctx: &Ctx<'_>) -> Result<(), ScenarioError> {
+    use toml::de::{DeTable, DeValue};
+    fn walk(ctx: &Ctx<'_>, path: &str, v: &Spanned<DeValue<'_>>) -> Result<(), ScenarioError> {
+        match v.get_ref() {
+            DeValue::Float(f) => {
+                let x: f64 = f.as_str().replace('_', "").parse().unwrap_or(f64::NAN);
+                if !x.is_finite() {
+                    return Err(ctx.at(Some(v.span()), format!("'{path}' is {}; every number must be finite", f.as_str())));
+                }
+            }
+            DeValue::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    walk(ctx, &format!("{path}[{i}]"), x)?;
+                }
+            }
+            DeValue::Table(t) => {
+                for (k, x) in t.iter() {
+                    let key = if path.is_empty() { k.get_ref().to_string() } else { format!("{path}.{}", k.get_ref()) };
+                    walk(ctx, &key, x)?;
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+    match DeTable::parse(ctx.text) {
+        Ok(t) => {
+            let root = Spanned::new(t.span(), DeValue::Table(t.into_inner()));
+            walk(ctx, "", &root)
+        }
+        // Syntax errors are reported by the typed parse, with its message.
+        Err(_) => Ok(()),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+
+impl Scenario {
+    /// Reads and checks a scenario file.
+    pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+            file: label.clone(),
+            location: None,
+            message: format!("cannot read the scenario file: {e}"),
+        })?;
+        let mut s = Self::from_toml(&text, &label)?;
+        if let Some(csv) = &s.csv {
+            let base = path.parent().unwrap_or(Path::new(""));
+            s.csv = Some(base.join(csv));
+        }
+        Ok(s)
+    }
+
+    /// Parses and checks scenario text; `file` labels error messages.
+    pub fn from_toml(text: &str, file: &str) -> Result<Self, ScenarioError> {
+        let ctx = Ctx { file, text };
+        let raw: RawScenario = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message().trim().to_string()))?;
+        check_finite(&ctx)?;
+        build(&ctx, raw)
+    }
+}
+
+fn positive(ctx: &Ctx<'_>, v: &Spanned<f64>, key: &str, unit: &str) -> Result<f64, ScenarioError> {
+    let x = *v.get_ref();
+    if x > 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(ctx.span(v, format!("'{key}' must be a finite number > 0 {unit}, got {x}")))
+    }
+}
+
+fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
+    // Run settings.
+    let run = raw.run.get_ref();
+    let duration = positive(ctx, &run.duration, "run.duration", "s")?;
+    let output_step = positive(ctx, &run.output_step, "run.output_step", "s")?;
+    let need = |v: &Option<Spanned<f64>>, key: &str, what: &str| -> Result<f64, ScenarioError> {
+        match v {
+            Some(x) => positive(ctx, x, key, ""),
+            None => Err(ctx.span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{}'", run.integrator.get_ref()))),
+        }
+    };
+    let forbid = |v: &Option<Spanned<f64>>, key: &str| -> Result<(), ScenarioError> {
+        match v {
+            Some(x) => Err(ctx.span(x, format!("'{key}' does not apply to integrator '{}'", run.integrator.get_ref()))),
+            None => Ok(()),
+        }
+    };
+    let integrator = match run.integrator.get_ref().as_str() {
+        name @ ("dop853" | "dopri5") => {
+            forbid(&run.step, "run.step")?;
+            let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
+            let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
+            if name == "dop853" { Integrator::Dop853 { rtol, atol } } else { Integrator::Dopri5 { rtol, atol } }
+        }
+        "rk4" => {
+            forbid(&run.rtol, "run.rtol")?;
+            forbid(&run.atol, "run.atol")?;
+            Integrator::Rk4 { step: need(&run.step, "run.step", "fixed step in s")? }
+        }
+        other => {
+            return Err(ctx.span(&run.integrator, format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"rk4\"")));
+        }
+    };
+    let settings = RunSettings { duration, output_step, integrator };
+
+    // Bodies.
+    if raw.bodies.is_empty() {
+        return Err(ctx.at(None, "no [[body]] given; the first [[body]] is the hub"));
+    }
+    let mut body_index: HashMap<String, usize> = HashMap::new();
+    let mut bodies = Vec::with_capacity(raw.bodies.len());
+    for (i, b) in raw.bodies.iter().enumerate() {
+        let name = b.name.get_ref();
+        check_name(ctx, &b.name, "body")?;
+        if body_index.insert(name.clone(), i).is_some() {
+            return Err(ctx.span(&b.name, format!("duplicate body name '{name}'; body names must be unique")));
+        }
+        let inertia = matrix(b.inertia.get_ref()).filter(|_| !matches!(b.inertia.get_ref(), toml::Value::Float(_) | toml::Value::Integer(_)));
+        let inertia = inertia.ok_or_else(|| {
+            ctx.span(&b.inertia, format!("body '{name}': 'inertia' must be 3 principal values [I1, I2, I3] or a full 3×3 tensor [[..],[..],[..]] in kg·m², body frame"))
+        })?;
+        let mass = *b.mass.get_ref();
+        let body = Body::new(name, mass, inertia).map_err(|m| {
+            let at = if mass > 0.0 && mass.is_finite() { b.inertia.span() } else { b.mass.span() };
+            ctx.at(Some(at), m)
+        })?;
+        bodies.push(body);
+    }
+
+    // Hinges.
+    let mut hinge_index: HashMap<String, usize> = HashMap::new();
+    let mut specs = Vec::with_capacity(raw.hinges.len());
+    for (i, h) in raw.hinges.iter().enumerate() {
+        let name = h.name.get_ref();
+        check_name(ctx, &h.name, "hinge")?;
+        if hinge_index.insert(name.clone(), i).is_some() {
+            return Err(ctx.span(&h.name, format!("duplicate hinge name '{name}'; hinge names must be unique")));
+        }
+        let lookup = |s: &Spanned<String>, key: &str| {
+            body_index.get(s.get_ref()).copied().ok_or_else(|| {
+                ctx.span(s, format!("hinge '{name}': {key} '{}' is not a body; bodies are: {}", s.get_ref(), names(&raw.bodies)))
+            })
+        };
+        let parent = lookup(&h.parent, "parent")?;
+        let child = lookup(&h.child, "child")?;
+        let parent_frame = parent_frame(ctx, name, &h.a0)?;
+        let a = h.a.get_ref();
+        let theta_c_a = angles(a.yaw, a.yaw_deg, a.pitch, a.pitch_deg, a.roll, a.roll_deg)
+            .map_err(|m| ctx.span(&h.a, format!("hinge '{name}' a: {m}")))?
+            .unwrap_or_default();
+        let law = law(ctx, name, &h.law)?;
+        specs.push(HingeSpec {
+            name: name.clone(),
+            parent,
+            child,
+            parent_frame,
+            r_child_in_a: vec3(Some(a.child_com)),
+            dcm_child_a: theta_c_a.to_dcm(),
+            law,
+        });
+    }
+
+    // Initial conditions.
+    let mut ic = InitialConditions {
+        hinges: vec![None; specs.len()],
+        body_attitudes: vec![None; bodies.len()],
+        ..Default::default()
+    };
+    if let Some(hub) = &raw.initial.hub {
+        let r = hub.get_ref();
+        ic.hub_position_in_n = vec3(r.position);
+        ic.hub_velocity_in_n = vec3(r.velocity);
+        ic.hub_omega_in_hub = vec3(r.omega);
+        ic.hub_attitude = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(hub, format!("initial.hub: {m}")))?
+            .unwrap_or_default();
+    }
+    let mut preferred = Vec::new();
+    for (key, v) in &raw.initial.hinge {
+        let Some(&i) = hinge_index.get(key.get_ref()) else {
+            return Err(ctx.span(key, format!("initial.hinge.{}: no hinge of that name; hinges are: {}", key.get_ref(), hinge_names(&raw.hinges))));
+        };
+        let r = v.get_ref();
+        let theta = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(v, format!("initial.hinge.{}: {m}", key.get_ref())))?;
+        ic.hinges[i] = Some(HingeInitial {
+            twist: RelativeTwist { delta_in_a0: vec3(r.delta), delta_rate_in_a0: vec3(r.delta_rate), omega_rel_in_a: vec3(r.omega_rel) },
+            theta,
+        });
+        preferred.push(i);
+    }
+    preferred.sort_unstable();
+    let mut attitude_keys = HashMap::new();
+    for (key, v) in &raw.initial.body {
+        let Some(&i) = body_index.get(key.get_ref()) else {
+            return Err(ctx.span(key, format!("initial.body.{}: no body of that name; bodies are: {}", key.get_ref(), names(&raw.bodies))));
+        };
+        if i == 0 {
+            return Err(ctx.span(key, format!("initial.body.{}: that is the hub; give its attitude in [initial.hub]", key.get_ref())));
+        }
+        let r = v.get_ref();
+        let att = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(v, format!("initial.body.{}: {m}", key.get_ref())))?;
+        ic.body_attitudes[i] = att;
+        attitude_keys.insert(i, key.span());
+    }
+
+    let model = Model::new(bodies, specs, &preferred).map_err(|e| model_error(ctx, &raw, e))?;
+
+    // A body attitude replaces the angles of the tree hinge that places that body.
+    for e in &model.tree {
+        if let (Some(span), Some(Some(HingeInitial { theta: Some(_), .. }))) = (attitude_keys.get(&e.to), ic.hinges.get(e.hinge)) {
+            return Err(ctx.at(
+                Some(span.clone()),
+                format!(
+                    "initial.body.{} gives the attitude of a body whose tree hinge '{}' also has initial angles; give one or the other",
+                    model.bodies[e.to].name, model.hinges[e.hinge].name
+                ),
+            ));
+        }
+    }
+
+    let columns = crate::observe::columns(&model);
+    let mut seen = std::collections::HashSet::new();
+    for c in &columns {
+        if !seen.insert(c) {
+            return Err(ctx.at(None, format!("output column '{c}' would appear twice; rename the body or hinge whose name makes it")));
+        }
+    }
+
+    Ok(Scenario { title: raw.title, model, initial: ic, settings, csv: run.csv.as_ref().map(PathBuf::from) })
+}
+
+fn check_name(ctx: &Ctx<'_>, name: &Spanned<String>, what: &str) -> Result<(), ScenarioError> {
+    let n = name.get_ref();
+    if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        return Err(ctx.span(name, format!("{what} name '{n}' must be non-empty and use only letters, digits, '_' and '-' (it names CSV columns)")));
+    }
+    Ok(())
+}
+
+fn names(bodies: &[RawBody]) -> String {
+    bodies.iter().map(|b| b.name.get_ref().as_str()).collect::<Vec<_>>().join(", ")
+}
+
+fn hinge_names(hinges: &[RawHinge]) -> String {
+    hinges.iter().map(|h| h.name.get_ref().as_str()).collect::<Vec<_>>().join(", ")
+}
+
+fn parent_frame(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<toml::Value>) -> Result<ParentFrame, ScenarioError> {
+    let help = "a0 must be \"assembled\" or a table { position = [x, y, z] (m, parent frame), yaw_deg = .., pitch_deg = .., roll_deg = .. }";
+    match v.get_ref() {
+        toml::Value::String(s) if s == "assembled" => Ok(ParentFrame::Assembled),
+        toml::Value::Table(_) => {
+            let f: RawFrame = v.get_ref().clone().try_into().map_err(|e: toml::de::Error| {
+                ctx.span(v, format!("hinge '{hinge}' a0: {}; {help}", e.message().trim()))
+            })?;
+            let position = f.position.ok_or_else(|| ctx.span(v, format!("hinge '{hinge}' a0: missing 'position' (m, parent frame)")))?;
+            let theta = angles(f.yaw, f.yaw_deg, f.pitch, f.pitch_deg, f.roll, f.roll_deg)
+                .map_err(|m| ctx.span(v, format!("hinge '{hinge}' a0: {m}")))?
+                .unwrap_or_default();
+            Ok(ParentFrame::Given { r_a0_in_parent: vec3(Some(position)), dcm_a0_parent: theta.to_dcm() })
+        }
+        _ => Err(ctx.span(v, format!("hinge '{hinge}': {help}"))),
+    }
+}
+
+fn law(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box<dyn HingeLaw>, ScenarioError> {
+    let l = v.get_ref();
+    let mat = |m: &Spanned<toml::Value>, key: &str, unit: &str| {
+        matrix(m.get_ref()).ok_or_else(|| {
+            ctx.span(m, format!("hinge '{hinge}' law.{key} must be a number, 3 numbers (a diagonal) or a 3×3 matrix, in {unit}"))
+        })
+    };
+    let opt = |m: &Option<Spanned<toml::Value>>, key: &str, unit: &str| match m {
+        Some(m) => mat(m, key, unit),
+        None => Ok(Mat3::zeros()),
+    };
+    let gains = LinearGains {
+        k_f: mat(&l.k_f, "k_f", "N/m")?,
+        k_theta: mat(&l.k_theta, "k_theta", "N·m/rad")?,
+        c_f: opt(&l.c_f, "c_f", "N·s/m")?,
+        c_theta: opt(&l.c_theta, "c_theta", "N·m·s/rad")?,
+    };
+    match l.kind.get_ref().as_str() {
+        "paper-linear" => Ok(Box::new(PaperLinear { gains })),
+        "euler-potential" => {
+            for (m, key) in [(&gains.k_f, &l.k_f), (&gains.k_theta, &l.k_theta)] {
+                if (m - m.transpose()).abs().max() > 1e-12 * m.abs().max() {
+                    return Err(ctx.span(key, format!("hinge '{hinge}': the euler-potential law needs symmetric stiffness matrices (a potential's Hessian)")));
+                }
+            }
+            Ok(Box::new(EulerPotential { gains }))
+        }
+        other => Err(ctx.span(&l.kind, format!("hinge '{hinge}': unknown law type '{other}'; valid: \"paper-linear\" (MODEL.md §4 law 1), \"euler-potential\" (law 2)"))),
+    }
+}
+
+fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError {
+    let span = match (e.hinge, e.body) {
+        (Some(h), _) => raw.hinges.get(h).map(|h| h.name.span()),
+        (None, Some(b)) => raw.bodies.get(b).map(|b| b.name.span()),
+        _ => None,
+    };
+    ctx.at(span, e.message)
+}

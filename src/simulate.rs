@@ -1,0 +1,279 @@
+//! Time integration and output streaming.
+//!
+//! The explicit methods are in [`crate::ode`] (DOP853 and Dormand–Prince 5(4) with dense
+//! output, classical RK4 with a fixed step). Output rows are
+//! produced from the dense output at each output time and handed to a sink as they are made,
+//! so memory does not grow with the length of a run.
+
+use crate::dynamics::Dynamics;
+use crate::init::{InitialConditions, initial_state};
+use crate::model::Model;
+use crate::observe::{Observation, Observer};
+use crate::ode::{Method, OdeError, Step, integrate};
+use std::time::Instant;
+use thiserror::Error;
+
+/// Time integration method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Integrator {
+    /// Dormand–Prince 8(5,3), adaptive, 7th-order dense output.
+    Dop853 {
+        /// Relative tolerance per state component.
+        rtol: f64,
+        /// Absolute tolerance per state component (m, m/s, rad/s, quaternion units).
+        atol: f64,
+    },
+    /// Dormand–Prince 5(4), adaptive, 4th-order dense output.
+    Dopri5 {
+        /// Relative tolerance per state component.
+        rtol: f64,
+        /// Absolute tolerance per state component.
+        atol: f64,
+    },
+    /// Classical fourth-order Runge–Kutta with a fixed step.
+    Rk4 {
+        /// Step, s.
+        step: f64,
+    },
+}
+
+impl Integrator {
+    /// Name as written in scenario files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Integrator::Dop853 { .. } => "dop853",
+            Integrator::Dopri5 { .. } => "dopri5",
+            Integrator::Rk4 { .. } => "rk4",
+        }
+    }
+}
+
+/// How long to run and how often to output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSettings {
+    /// Simulated time, s (> 0).
+    pub duration: f64,
+    /// Interval between output rows, s (> 0). Rows are at `k · output_step` and at `duration`.
+    pub output_step: f64,
+    /// Integration method.
+    pub integrator: Integrator,
+}
+
+/// Largest departures from the initial values over all output rows.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Drift {
+    /// max |P(t) − P(0)|, kg·m/s.
+    pub momentum: f64,
+    /// max Σ m_i |Ṙ_i| over the run, kg·m/s (scale for a relative figure).
+    pub momentum_scale: f64,
+    /// max |H(t) − H(0)|, kg·m²/s.
+    pub angular_momentum: f64,
+    /// max Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|) over the run, kg·m²/s.
+    pub angular_momentum_scale: f64,
+    /// max |R_c(t) − R_c(0)|, m.
+    pub barycenter: f64,
+    /// max |E(t) − E(0)|, J.
+    pub energy: f64,
+    /// E(0), J.
+    pub energy_initial: f64,
+    /// E at the last row minus E(0), J.
+    pub energy_final_change: f64,
+}
+
+/// What a finished run reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunReport {
+    /// Simulated time, s.
+    pub simulated: f64,
+    /// Wall-clock time of the integration, s.
+    pub wall_seconds: f64,
+    /// Accepted steps.
+    pub steps_accepted: usize,
+    /// Rejected steps.
+    pub steps_rejected: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: u64,
+    /// Output rows written.
+    pub rows: usize,
+    /// Conservation figures.
+    pub drift: Drift,
+    /// True if every hinge law conserves E (so `drift.energy` should be small).
+    pub energy_conserving: bool,
+}
+
+/// Why a run stopped early.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// The integrator gave up.
+    #[error("integration failed at t = {t} s: {message}")]
+    Integrator {
+        /// Time reached, s.
+        t: f64,
+        /// Reason.
+        message: String,
+    },
+    /// The physics left the model's domain (e.g. gimbal lock of a hinge's Euler angles).
+    #[error("{0}")]
+    Physics(String),
+    /// The output sink failed.
+    #[error("writing output: {0}")]
+    Output(String),
+}
+
+/// Receives output rows in time order.
+pub trait Sink {
+    /// Takes one row.
+    fn record(&mut self, observation: &Observation) -> Result<(), String>;
+}
+
+impl<F: FnMut(&Observation) -> Result<(), String>> Sink for F {
+    fn record(&mut self, observation: &Observation) -> Result<(), String> {
+        self(observation)
+    }
+}
+
+struct StreamOut<'d, 'm, 's, 'p> {
+    dynamics: &'d Dynamics<'m>,
+    observer: Observer,
+    sink: &'s mut dyn Sink,
+    progress: Option<&'p mut dyn FnMut(f64)>,
+    output_times: OutputTimes,
+    first: Option<Observation>,
+    drift: Drift,
+    rows: usize,
+    t_reached: f64,
+    buffer: Vec<f64>,
+}
+
+/// Output times `k · step` below `end`, then `end`.
+#[derive(Clone, Copy, Debug)]
+struct OutputTimes {
+    step: f64,
+    end: f64,
+    next: u64,
+    done: bool,
+}
+
+impl OutputTimes {
+    fn peek(&self) -> Option<f64> {
+        if self.done {
+            return None;
+        }
+        let t = self.next as f64 * self.step;
+        Some(if t < self.end - 1e-9 * self.step { t } else { self.end })
+    }
+    fn advance(&mut self) {
+        if let Some(t) = self.peek() {
+            if t == self.end {
+                self.done = true;
+            }
+            self.next += 1;
+        }
+    }
+}
+
+impl StreamOut<'_, '_, '_, '_> {
+    fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
+        let o = self.observer.observe(self.dynamics.model(), t, y, &self.dynamics.theta_refs());
+        if let Some(first) = &self.first {
+            let d = &mut self.drift;
+            d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n).norm());
+            d.angular_momentum = d.angular_momentum.max((o.angular_momentum_in_n - first.angular_momentum_in_n).norm());
+            d.barycenter = d.barycenter.max((o.barycenter_in_n - first.barycenter_in_n).norm());
+            d.energy = d.energy.max((o.energy() - first.energy()).abs());
+            d.energy_final_change = o.energy() - first.energy();
+        } else {
+            self.drift.energy_initial = o.energy();
+            self.first = Some(o.clone());
+        }
+        self.drift.momentum_scale = self.drift.momentum_scale.max(o.momentum_scale);
+        self.drift.angular_momentum_scale = self.drift.angular_momentum_scale.max(o.angular_momentum_scale);
+        self.sink.record(&o).map_err(SimError::Output)?;
+        self.rows += 1;
+        Ok(())
+    }
+
+    /// Emits every output row inside the accepted step, then moves the hinge angle
+    /// references to the step's end.
+    fn on_step(&mut self, step: &Step<'_>) -> Result<(), SimError> {
+        let tol = 1e-12 * step.t.abs().max(1.0);
+        while let Some(t_out) = self.output_times.peek() {
+            if t_out > step.t + tol {
+                break;
+            }
+            if (t_out - step.t).abs() <= tol {
+                self.emit(t_out, step.y)?;
+            } else {
+                let mut y = std::mem::take(&mut self.buffer);
+                y.resize(step.y.len(), 0.0);
+                step.interpolate(t_out, &mut y);
+                let r = self.emit(t_out, &y);
+                self.buffer = y;
+                r?;
+            }
+            self.output_times.advance();
+        }
+        self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
+        self.t_reached = step.t;
+        if let Some(p) = self.progress.as_mut() {
+            p(step.t);
+        }
+        Ok(())
+    }
+}
+
+/// Runs a simulation from `ic`, streaming every output row to `sink`. `progress` is called
+/// with the simulated time after each accepted step.
+pub fn simulate(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    sink: &mut dyn Sink,
+    progress: Option<&mut dyn FnMut(f64)>,
+) -> Result<RunReport, SimError> {
+    let (y0, theta_refs) = initial_state(model, ic);
+    let dynamics = Dynamics::new(model, theta_refs);
+    let mut out = StreamOut {
+        dynamics: &dynamics,
+        observer: Observer::new(ic.hub_attitude),
+        sink,
+        progress,
+        output_times: OutputTimes { step: settings.output_step, end: settings.duration, next: 0, done: false },
+        first: None,
+        drift: Drift::default(),
+        rows: 0,
+        t_reached: 0.0,
+        buffer: Vec::new(),
+    };
+    let start = Instant::now();
+    let method = match settings.integrator {
+        Integrator::Dop853 { rtol, atol } => Method::Dop853 { rtol, atol },
+        Integrator::Dopri5 { rtol, atol } => Method::Dopri5 { rtol, atol },
+        Integrator::Rk4 { step } => Method::Rk4 { step },
+    };
+    let result = integrate(&dynamics, method, 0.0, settings.duration, &y0, |step| out.on_step(step));
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let stats = result.map_err(|e| match e {
+        OdeError::Callback(e) => e,
+        OdeError::StepTooSmall { t, h } => SimError::Integrator {
+            t,
+            message: format!(
+                "the step size fell to {h:e} s, the round-off limit: the tolerances may be tighter than f64 allows, or the motion has become singular"
+            ),
+        },
+        OdeError::NonFinite { t } => SimError::Integrator { t, message: "the state became non-finite".into() },
+    })?;
+    if out.output_times.peek().is_some() {
+        return Err(SimError::Integrator { t: out.t_reached, message: "the integrator stopped before the end of the run".into() });
+    }
+    Ok(RunReport {
+        simulated: settings.duration,
+        wall_seconds,
+        steps_accepted: stats.accepted,
+        steps_rejected: stats.rejected,
+        rhs_evaluations: dynamics.evaluations(),
+        rows: out.rows,
+        drift: out.drift,
+        energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy()),
+    })
+}

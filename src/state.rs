@@ -1,0 +1,75 @@
+//! The integrated state: every body's pose and twist in maximal coordinates (DESIGN.md §1).
+//!
+//! Layout per body, [`BODY_STATE_LEN`] numbers from `BODY_STATE_LEN · i`:
+//! `R_i` (m, N components, 3), `q_n_i` (unit quaternion w, x, y, z mapping body to N
+//! components, 4), `Ṙ_i` (m/s, N components, 3), `ω_{i/N}` (rad/s, body components, 3).
+
+use crate::math::{Mat3, Vec3, dcm_from_quat, quat_from_dcm};
+use crate::model::Model;
+
+/// Numbers per body in the state vector.
+pub const BODY_STATE_LEN: usize = 13;
+/// Offset of `R_i` within a body's block.
+pub const POS: usize = 0;
+/// Offset of the quaternion `q_n_i`.
+pub const QUAT: usize = 3;
+/// Offset of `Ṙ_i`.
+pub const VEL: usize = 7;
+/// Offset of `ω_{i/N}` in body components.
+pub const OMEGA: usize = 10;
+
+/// The flat state vector integrated in time.
+pub type State = Vec<f64>;
+
+/// Pose and twist of one body, everything resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyMotion {
+    /// CoM position `R_i`, m, N components.
+    pub r_in_n: Vec3,
+    /// `[N i]`.
+    pub dcm_n_b: Mat3,
+    /// CoM velocity `Ṙ_i`, m/s, N components.
+    pub v_in_n: Vec3,
+    /// `ω_{i/N}`, rad/s, N components.
+    pub omega_in_n: Vec3,
+}
+
+impl Default for BodyMotion {
+    fn default() -> Self {
+        Self { r_in_n: Vec3::zeros(), dcm_n_b: Mat3::identity(), v_in_n: Vec3::zeros(), omega_in_n: Vec3::zeros() }
+    }
+}
+
+impl BodyMotion {
+    /// Reads body `i` from a state vector (the quaternion is normalized).
+    #[inline]
+    pub fn from_state(y: &[f64], i: usize) -> Self {
+        let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+        let dcm_n_b = dcm_from_quat(&s[QUAT..QUAT + 4]);
+        let omega_in_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
+        Self {
+            r_in_n: Vec3::new(s[POS], s[POS + 1], s[POS + 2]),
+            dcm_n_b,
+            v_in_n: Vec3::new(s[VEL], s[VEL + 1], s[VEL + 2]),
+            omega_in_n: dcm_n_b * omega_in_b,
+        }
+    }
+
+    /// `ω_{i/N}` in body components, rad/s.
+    pub fn omega_in_body(&self) -> Vec3 {
+        self.dcm_n_b.transpose() * self.omega_in_n
+    }
+}
+
+/// Builds the state vector from body motions (model order).
+pub fn state_from_motions(model: &Model, motions: &[BodyMotion]) -> State {
+    let mut y = vec![0.0; BODY_STATE_LEN * model.bodies.len()];
+    for (i, m) in motions.iter().enumerate() {
+        let s = &mut y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+        s[POS..POS + 3].copy_from_slice(m.r_in_n.as_slice());
+        s[QUAT..QUAT + 4].copy_from_slice(&quat_from_dcm(&m.dcm_n_b));
+        s[VEL..VEL + 3].copy_from_slice(m.v_in_n.as_slice());
+        s[OMEGA..OMEGA + 3].copy_from_slice(m.omega_in_body().as_slice());
+    }
+    y
+}

@@ -1,0 +1,88 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use foldsim::observe::{Observation, columns, row};
+use foldsim::scenario::Scenario;
+use foldsim::simulate::{RunReport, simulate};
+use std::path::{Path, PathBuf};
+
+/// Path of a file in the repository.
+pub fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// Loads a scenario from the repository.
+pub fn scenario(path: &str) -> Scenario {
+    Scenario::from_file(&repo(path)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A table of named columns.
+pub struct Table {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    pub fn col(&self, name: &str) -> usize {
+        self.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"))
+    }
+}
+
+/// Runs a scenario and keeps every output row.
+pub fn run(s: &Scenario) -> (Table, Vec<Observation>, RunReport) {
+    let mut observations = Vec::new();
+    let mut sink = |o: &Observation| -> Result<(), String> {
+        observations.push(o.clone());
+        Ok(())
+    };
+    let report = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).unwrap_or_else(|e| panic!("{e}"));
+    let table = Table { columns: columns(&s.model), rows: observations.iter().map(row).collect() };
+    (table, observations, report)
+}
+
+/// Reads a CSV with a header of column names and numeric rows.
+pub fn read_csv(path: &Path) -> Table {
+    let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let columns = r.headers().unwrap().iter().map(|s| s.trim().to_string()).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(|x| x.trim().parse::<f64>().unwrap()).collect())
+        .collect();
+    Table { columns, rows }
+}
+
+/// Largest difference per shared column, rows matched by time, angle columns (ending in
+/// _yaw, _pitch, _roll) compared modulo 2π: the rules of shared/tools/compare_reference.py.
+/// Returns (column, max |diff|) for every column of `reference` found in `ours`, and the
+/// number of rows matched.
+pub fn compare(reference: &Table, ours: &Table) -> (Vec<(String, f64)>, usize) {
+    let (rt, ot) = (reference.col("t"), ours.col("t"));
+    let mut worst: Vec<(String, f64)> = Vec::new();
+    let shared: Vec<(usize, usize, &String)> = reference
+        .columns
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.as_str() != "t")
+        .filter_map(|(i, c)| ours.columns.iter().position(|o| o == c).map(|j| (i, j, c)))
+        .collect();
+    for (_, _, c) in &shared {
+        worst.push(((*c).clone(), 0.0));
+    }
+    let mut matched = 0;
+    for rrow in &reference.rows {
+        let t = rrow[rt];
+        let Some(orow) = ours.rows.iter().find(|o| (o[ot] - t).abs() < 1e-9) else { continue };
+        matched += 1;
+        for (k, (i, j, c)) in shared.iter().enumerate() {
+            let mut d = (rrow[*i] - orow[*j]).abs();
+            if c.ends_with("_yaw") || c.ends_with("_pitch") || c.ends_with("_roll") {
+                d = ((d + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI).abs();
+            }
+            if d.is_nan() {
+                d = f64::INFINITY;
+            }
+            worst[k].1 = worst[k].1.max(d);
+        }
+    }
+    (worst, matched)
+}

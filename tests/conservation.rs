@@ -1,0 +1,82 @@
+//! Conservation laws (MODEL.md §4–5): the hinge forces are internal, so linear and angular
+//! momentum are conserved for every law and the barycenter moves uniformly; law 2 without
+//! damping conserves E = T + V; law 1 does not, and the report says so.
+//!
+//! Tolerance 1e-10 (relative to the momentum scale, absolute where the quantity is zero) is
+//! the core issue's; at rtol = atol = 1e-12 the integration error of these quantities is
+//! ~1e-12, so a formulation error (a force or torque not equal and opposite, a wrong
+//! application point) would show up many orders above it.
+
+mod common;
+use common::*;
+use foldsim::scenario::Scenario;
+
+fn drift_check(path: &str) -> foldsim::simulate::RunReport {
+    let s = scenario(path);
+    let (_, obs, report) = run(&s);
+    let d = &report.drift;
+    // P and H start at zero in the canonical cases: absolute bounds.
+    assert!(obs[0].momentum_in_n.norm() < 1e-12 && obs[0].angular_momentum_in_n.norm() < 1e-12);
+    assert!(d.momentum <= 1e-10, "{path}: |ΔP| = {:e}", d.momentum);
+    assert!(d.angular_momentum <= 1e-10, "{path}: |ΔH| = {:e}", d.angular_momentum);
+    assert!(d.barycenter <= 1e-10, "{path}: barycenter moved {:e} m", d.barycenter);
+    report
+}
+
+#[test]
+fn law2_conserves_momentum_and_energy() {
+    for path in ["examples/paper-1panel-euler.toml", "examples/paper-3panel-euler.toml"] {
+        let r = drift_check(path);
+        assert!(r.energy_conserving);
+        let rel = r.drift.energy / r.drift.energy_initial.abs();
+        assert!(rel <= 1e-10, "{path}: relative energy drift {rel:e}");
+    }
+}
+
+/// Law 1 conserves momentum but not energy (−B(θ)ᵀK_θφ is not a gradient): the change is
+/// percent-level (reference README: 1.4 % and 11 %) and must be reported as such.
+#[test]
+fn law1_conserves_momentum_and_reports_energy_change() {
+    for (path, at_least) in [("examples/paper-1panel.toml", 5e-3), ("examples/paper-3panel.toml", 5e-2)] {
+        let r = drift_check(path);
+        assert!(!r.energy_conserving, "{path}: law 1 must not be reported as energy-conserving");
+        let rel = r.drift.energy / r.drift.energy_initial.abs();
+        assert!(rel >= at_least, "{path}: energy change {rel:e} should be percent-level");
+    }
+}
+
+/// Nonzero momentum: the hub moves and spins and every tree hinge starts with rates, so P
+/// and H are large and relative conservation is tested (1e-10 of Σ m|v| and Σ |r×mv|+|Iω|),
+/// and the barycenter must move in a straight line at P/M.
+#[test]
+fn momentum_conserved_when_nonzero() {
+    let text = std::fs::read_to_string(repo("examples/paper-3panel-euler.toml")).unwrap();
+    let text = text.replace("duration = 20.0", "duration = 5.0")
+        + r#"
+[initial.hub]
+position = [0.3, -0.2, 0.1]
+velocity = [0.5, -0.25, 0.1]
+omega = [0.2, -0.3, 0.4]
+pitch_deg = 10.0
+"#;
+    let text = text
+        .replace("[initial.hinge.h1]\n", "[initial.hinge.h1]\ndelta_rate = [0.01, -0.02, 0.005]\nomega_rel = [0.1, 0.2, -0.3]\n")
+        .replace("[initial.hinge.h31]\n", "[initial.hinge.h31]\nomega_rel = [-0.2, 0.1, 0.3]\n");
+    let s = Scenario::from_toml(&text, "momentum").unwrap();
+    let (_, obs, r) = run(&s);
+    let (p0, h0) = (obs[0].momentum_in_n, obs[0].angular_momentum_in_n);
+    assert!(p0.norm() > 10.0 && h0.norm() > 10.0, "test needs real momentum: {p0} {h0}");
+    let d = &r.drift;
+    assert!(d.momentum / d.momentum_scale <= 1e-10, "ΔP/scale = {:e}", d.momentum / d.momentum_scale);
+    assert!(
+        d.angular_momentum / d.angular_momentum_scale <= 1e-10,
+        "ΔH/scale = {:e}",
+        d.angular_momentum / d.angular_momentum_scale
+    );
+    let m = s.model.total_mass();
+    for o in &obs {
+        let expected = obs[0].barycenter_in_n + p0 / m * o.t;
+        assert!((o.barycenter_in_n - expected).norm() < 1e-10, "barycenter off its line at t={}", o.t);
+    }
+    assert!(d.energy / d.energy_initial <= 1e-10, "relative energy drift {:e}", d.energy / d.energy_initial);
+}

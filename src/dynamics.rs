@@ -125,6 +125,16 @@ impl<'m> Dynamics<'m> {
                     k.state.theta.pitch.to_degrees()
                 ));
             }
+            // Between accepted steps yaw and roll move continuously; a jump of more than a
+            // quarter turn means the step passed the singular pitch and the branch is lost.
+            let jump = (k.state.theta.yaw - refs[i].yaw).abs().max((k.state.theta.roll - refs[i].roll).abs());
+            if jump > std::f64::consts::FRAC_PI_2 {
+                return Err(format!(
+                    "hinge '{}' passed near pitch ±90° before t = {t:.6} s (yaw or roll jumped by {:.1}° in one step): 3-2-1 Euler angles are singular there (MODEL.md §7)",
+                    h.name,
+                    jump.to_degrees()
+                ));
+            }
             refs[i] = k.state.theta;
         }
         Ok(())

@@ -1,0 +1,205 @@
+//! Bad scenario input: every case must give an error naming the file, the line (where the
+//! input has one) and the key or name, and saying what would be valid; never a panic.
+
+use foldsim::scenario::Scenario;
+
+const GOOD: &str = r#"
+[run]
+duration = 1.0
+output_step = 0.1
+integrator = "dop853"
+rtol = 1e-9
+atol = 1e-9
+
+[[body]]
+name = "hub"
+mass = 100.0
+inertia = [100.0, 100.0, 100.0]
+
+[[body]]
+name = "p1"
+mass = 10.0
+inertia = [1.0, 1.0, 1.0]
+
+[[body]]
+name = "p2"
+mass = 10.0
+inertia = [1.0, 1.0, 1.0]
+
+[[hinge]]
+name = "h1"
+parent = "hub"
+child = "p1"
+a0 = { position = [0.75, 0.0, 0.0] }
+a = { child_com = [1.0, 0.0, 0.0] }
+law = { type = "paper-linear", k_f = 100.0, k_theta = 10.0 }
+
+[[hinge]]
+name = "h2"
+parent = "p1"
+child = "p2"
+a0 = { position = [1.0, 0.0, 0.0] }
+a = { child_com = [1.0, 0.0, 0.0] }
+law = { type = "euler-potential", k_f = 100.0, k_theta = 10.0 }
+
+[initial.hinge.h1]
+delta = [0.01, 0.0, 0.0]
+"#;
+
+/// Line (1-based) of the last line of the text containing `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    let lines: Vec<&str> = text.lines().collect();
+    lines.iter().rposition(|l| l.contains(needle)).unwrap_or_else(|| panic!("no line with {needle}")) + 1
+}
+
+/// Applies `edit` to GOOD, expects an error at the line containing `at` (if given) whose
+/// message contains every word of `words`.
+fn expect_error(edit: impl Fn(&str) -> String, at: Option<&str>, words: &[&str]) {
+    let text = edit(GOOD);
+    let err = match Scenario::from_toml(&text, "bad.toml") {
+        Ok(_) => panic!("accepted bad input:\n{text}"),
+        Err(e) => e,
+    };
+    let msg = err.to_string();
+    assert!(msg.starts_with("bad.toml"), "error must name the file: {msg}");
+    if let Some(at) = at {
+        let line = line_of(&text, at);
+        assert_eq!(err.location.map(|l| l.0), Some(line), "error must point at line {line} ({at}): {msg}");
+    }
+    for w in words {
+        assert!(msg.contains(w), "error should mention '{w}': {msg}");
+    }
+}
+
+#[test]
+fn good_input_is_accepted() {
+    Scenario::from_toml(GOOD, "good.toml").unwrap();
+}
+
+#[test]
+fn malformed_toml() {
+    expect_error(|t| t.replace("mass = 100.0", "mass = = 100.0"), Some("mass = = 100.0"), &["bad.toml"]);
+    expect_error(|t| t.replace("[run]", "[run"), Some("[run"), &[]);
+}
+
+#[test]
+fn unknown_keys() {
+    expect_error(|t| t.replace("mass = 100.0", "mass = 100.0\ncolour = \"red\""), Some("colour"), &["colour"]);
+    expect_error(|t| t.replace("duration = 1.0", "duration = 1.0\nrtoll = 1e-9"), Some("rtoll"), &["rtoll"]);
+    expect_error(
+        |t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = { position = [0.75, 0.0, 0.0], yaw_degrees = 3.0 }"),
+        Some("yaw_degrees"),
+        &["yaw_degrees", "h1"],
+    );
+    expect_error(|t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, 0.0, 0.0]\nspin = 1.0"), Some("spin = 1.0"), &["spin"]);
+    expect_error(|t| t.replace("type = \"paper-linear\"", "type = \"paper-linear\", k_x = 1.0"), Some("k_x"), &["k_x"]);
+}
+
+#[test]
+fn unknown_names() {
+    expect_error(|t| t.replace("child = \"p1\"", "child = \"p9\""), Some("child = \"p9\""), &["p9", "hub, p1, p2"]);
+    expect_error(|t| t.replace("[initial.hinge.h1]", "[initial.hinge.h7]"), Some("[initial.hinge.h7]"), &["h7", "h1, h2"]);
+    expect_error(|t| t.replace("integrator = \"dop853\"", "integrator = \"euler\""), Some("integrator"), &["euler", "dop853"]);
+    expect_error(|t| t.replace("type = \"paper-linear\"", "type = \"linear\""), Some("type = \"linear\""), &["linear", "paper-linear", "euler-potential"]);
+}
+
+#[test]
+fn duplicate_names() {
+    expect_error(|t| t.replacen("name = \"p2\"", "name = \"p1\"", 1), Some("name = \"p1\""), &["duplicate body", "p1"]);
+    expect_error(|t| t.replace("name = \"h2\"", "name = \"h1\""), None, &["duplicate hinge", "h1"]);
+}
+
+#[test]
+fn hinge_to_itself() {
+    expect_error(|t| t.replace("parent = \"p1\"", "parent = \"p2\""), Some("name = \"h2\""), &["h2", "itself"]);
+}
+
+#[test]
+fn disconnected_graph() {
+    // p2 hangs from nothing: remove hinge h2 entirely.
+    let cut = |t: &str| {
+        let start = t.find("[[hinge]]\nname = \"h2\"").unwrap();
+        let end = t.find("[initial.hinge.h1]").unwrap();
+        format!("{}{}", &t[..start], &t[end..])
+    };
+    expect_error(cut, Some("name = \"p2\""), &["p2", "not connected"]);
+}
+
+#[test]
+fn hub_as_child() {
+    expect_error(
+        |t| t.replace("parent = \"hub\"\nchild = \"p1\"", "parent = \"p1\"\nchild = \"hub\""),
+        Some("name = \"h1\""),
+        &["h1", "hub", "child"],
+    );
+}
+
+#[test]
+fn bad_mass() {
+    expect_error(|t| t.replacen("mass = 10.0", "mass = 0.0", 1), Some("mass = 0.0"), &["mass", "> 0"]);
+    expect_error(|t| t.replacen("mass = 10.0", "mass = -3.0", 1), Some("mass = -3.0"), &["mass", "p1"]);
+}
+
+#[test]
+fn bad_inertia() {
+    let line = "inertia = [1.0, 1.0, 1.0]";
+    expect_error(|t| t.replacen(line, "inertia = [[1.0, 0.2, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]", 1), Some("0.2"), &["symmetric", "p1"]);
+    expect_error(|t| t.replacen(line, "inertia = [1.0, -1.0, 1.0]", 1), Some("-1.0"), &["positive definite"]);
+    expect_error(|t| t.replacen(line, "inertia = [1.0, 1.0, 3.0]", 1), Some("3.0]"), &["triangle inequality"]);
+    expect_error(|t| t.replacen(line, "inertia = [1.0, 1.0]", 1), Some("[1.0, 1.0]"), &["inertia", "principal"]);
+}
+
+#[test]
+fn non_finite_numbers() {
+    expect_error(|t| t.replacen("mass = 10.0", "mass = nan", 1), Some("mass = nan"), &["body[1].mass", "finite"]);
+    expect_error(|t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, inf, 0.0]"), Some("inf"), &["initial.hinge.h1.delta[1]", "finite"]);
+    expect_error(|t| t.replacen("k_theta = 10.0 }", "k_theta = -inf }", 1), Some("-inf"), &["k_theta", "finite"]);
+}
+
+#[test]
+fn bad_times() {
+    expect_error(|t| t.replace("duration = 1.0", "duration = -1.0"), Some("duration"), &["run.duration", "> 0"]);
+    expect_error(|t| t.replace("output_step = 0.1", "output_step = 0.0"), Some("output_step"), &["run.output_step", "> 0"]);
+    expect_error(
+        |t| t.replace("integrator = \"dop853\"\nrtol = 1e-9\natol = 1e-9", "integrator = \"rk4\"\nstep = -0.01"),
+        Some("step = -0.01"),
+        &["run.step", "> 0"],
+    );
+    expect_error(|t| t.replace("rtol = 1e-9", "rtol = -1e-9"), Some("rtol"), &["run.rtol"]);
+    expect_error(|t| t.replace("rtol = 1e-9\n", ""), Some("[run]"), &["run.rtol"]);
+}
+
+#[test]
+fn conflicting_or_misplaced_values() {
+    expect_error(
+        |t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = { position = [0.75, 0.0, 0.0], yaw = 0.1, yaw_deg = 5.0 }"),
+        Some("yaw_deg = 5.0"),
+        &["yaw", "yaw_deg"],
+    );
+    expect_error(|t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = \"assembly\""), Some("assembly"), &["assembled"]);
+    expect_error(|t| t.replace("type = \"euler-potential\", k_f = 100.0", "type = \"euler-potential\", k_f = [[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"), Some("2.0, 0.0"), &["symmetric"]);
+    expect_error(|t| t.to_string() + "\n[initial.body.hub]\nyaw_deg = 3.0\n", Some("[initial.body.hub]"), &["hub", "initial.hub"]);
+    expect_error(
+        |t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, 0.0, 0.0]\nyaw_deg = 2.0") + "\n[initial.body.p1]\nyaw_deg = 3.0\n",
+        Some("[initial.body.p1]"),
+        &["p1", "h1", "one or the other"],
+    );
+}
+
+#[test]
+fn loop_hinge_cannot_take_initial_values() {
+    let looped = GOOD.to_string()
+        + r#"
+[[hinge]]
+name = "h3"
+parent = "hub"
+child = "p2"
+a0 = "assembled"
+a = { child_com = [1.0, 0.0, 0.0] }
+law = { type = "paper-linear", k_f = 100.0, k_theta = 10.0 }
+"#;
+    Scenario::from_toml(&looped, "loop.toml").expect("an assembled loop hinge is valid");
+    let with_initial = looped.clone() + "\n[initial.hinge.h3]\nyaw_deg = 1.0\n";
+    let e = Scenario::from_toml(&with_initial, "loop.toml").unwrap_err().to_string();
+    assert!(e.contains("h3") && e.contains("assembled"), "{e}");
+}

@@ -180,10 +180,7 @@ mod tests {
             let h = 1e-6;
             let shifted = |s: f64| {
                 let v = state.theta.as_vector() + e * s;
-                HingeState {
-                    theta: Euler321::new(v.x, v.y, v.z),
-                    ..state
-                }
+                HingeState { theta: Euler321::new(v.x, v.y, v.z), ..state }
             };
             let dv = (law.stored_energy(&shifted(h)) - law.stored_energy(&shifted(-h))) / (2.0 * h);
             let work = w.torque_in_a.dot(&(b * e));

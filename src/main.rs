@@ -10,7 +10,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "foldsim", version, about = "Deployment dynamics of folded spacecraft structures with flexible hinges")]
+#[command(
+    name = "foldsim",
+    version,
+    about = "Deployment dynamics of folded spacecraft structures with flexible hinges"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -81,7 +85,11 @@ fn run(path: &Path, csv: Option<PathBuf>, quiet: bool) -> Result<(), String> {
             }
             Ok(())
         }
-        Err(e) => Err(format!("{}: {e}\nthe rows written before the failure are in {}", path.display(), sink.partial_path().display())),
+        Err(e) => Err(format!(
+            "{}: {e}\nthe rows written before the failure are in {}",
+            path.display(),
+            sink.partial_path().display()
+        )),
     }
 }
 
@@ -102,7 +110,11 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     println!("  rhs evaluations  {}", r.rhs_evaluations);
     println!("  output rows      {} -> {}", r.rows, csv.display());
     println!("  drift over the run (max |x(t) - x(0)|):");
-    println!("    linear momentum P   {:.3e} kg·m/s  ({:.3e} of Σ m|v|)", d.momentum, rel(d.momentum, d.momentum_scale));
+    println!(
+        "    linear momentum P   {:.3e} kg·m/s  ({:.3e} of Σ m|v|)",
+        d.momentum,
+        rel(d.momentum, d.momentum_scale)
+    );
     println!(
         "    angular momentum H  {:.3e} kg·m²/s ({:.3e} of Σ |r×mv|+|Iω|)",
         d.angular_momentum,

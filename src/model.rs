@@ -162,9 +162,8 @@ impl Body {
                 p[0], p[1], p[2]
             ));
         }
-        let inertia_inv_in_body = sym
-            .try_inverse()
-            .ok_or_else(|| format!("body '{name}': inertia tensor is singular"))?;
+        let inertia_inv_in_body =
+            sym.try_inverse().ok_or_else(|| format!("body '{name}': inertia tensor is singular"))?;
         Ok(Self { name: name.to_string(), mass, inertia_in_body: sym, inertia_inv_in_body })
     }
 }
@@ -179,7 +178,11 @@ impl Model {
     pub fn new(bodies: Vec<Body>, specs: Vec<HingeSpec>, preferred: &[usize]) -> Result<Self, ModelError> {
         let nb = bodies.len();
         if nb == 0 {
-            return Err(ModelError { message: "a model needs at least one body (the hub)".into(), body: None, hinge: None });
+            return Err(ModelError {
+                message: "a model needs at least one body (the hub)".into(),
+                body: None,
+                hinge: None,
+            });
         }
         for (h, s) in specs.iter().enumerate() {
             if s.parent >= nb || s.child >= nb {
@@ -188,7 +191,10 @@ impl Model {
             if s.parent == s.child {
                 return Err(ModelError::hinge(
                     h,
-                    format!("hinge '{}' joins body '{}' to itself; parent and child must differ", s.name, bodies[s.parent].name),
+                    format!(
+                        "hinge '{}' joins body '{}' to itself; parent and child must differ",
+                        s.name, bodies[s.parent].name
+                    ),
                 ));
             }
             if s.child == 0 {
@@ -217,7 +223,10 @@ impl Model {
             if s.parent_frame == ParentFrame::Assembled {
                 return Err(ModelError::hinge(
                     h,
-                    format!("hinge '{}' has an assembled A0 and so is a loop hinge; it takes no initial values", s.name),
+                    format!(
+                        "hinge '{}' has an assembled A0 and so is a loop hinge; it takes no initial values",
+                        s.name
+                    ),
                 ));
             }
             let (a, b) = (find(&mut root, s.parent), find(&mut root, s.child));
@@ -246,9 +255,8 @@ impl Model {
         let hub_root = find(&mut root, 0);
         for i in 1..nb {
             if find(&mut root, i) != hub_root {
-                let through_assembled = specs.iter().any(|s| {
-                    s.parent_frame == ParentFrame::Assembled && (s.parent == i || s.child == i)
-                });
+                let through_assembled =
+                    specs.iter().any(|s| s.parent_frame == ParentFrame::Assembled && (s.parent == i || s.child == i));
                 let hint = if through_assembled {
                     " except through assembled hinges, which cannot be tree hinges; give one of them an explicit A0"
                 } else {

@@ -138,15 +138,8 @@ const DP5_A: [&[f64]; 7] = [
     &[35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
 ];
 const DP5_B: [f64; 7] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0];
-const DP5_E: [f64; 7] = [
-    71.0 / 57600.0,
-    0.0,
-    -71.0 / 16695.0,
-    71.0 / 1920.0,
-    -17253.0 / 339200.0,
-    22.0 / 525.0,
-    -1.0 / 40.0,
-];
+const DP5_E: [f64; 7] =
+    [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
 const DP5_D: [f64; 7] = [
     -12715105075.0 / 11282082432.0,
     0.0,
@@ -161,21 +154,21 @@ const DP5_D: [f64; 7] = [
 // extra stages for the dense output.
 const DP8_C: [f64; 16] = [
     0.0,
-    0.526001519587677318785587544488e-01,
-    0.789002279381515978178381316732e-01,
-    0.118350341907227396726757197510,
-    0.281649658092772603273242802490,
-    0.333333333333333333333333333333,
+    5.260_015_195_876_773E-2,
+    7.890_022_793_815_16E-2,
+    1.183_503_419_072_274E-1,
+    2.816_496_580_927_726E-1,
+    1.0 / 3.0,
     0.25,
-    0.307692307692307692307692307692,
-    0.651282051282051282051282051282,
+    4.0 / 13.0,
+    127.0 / 195.0,
     0.6,
-    0.857142857142857142857142857142,
+    6.0 / 7.0,
     1.0,
     1.0,
     0.1,
     0.2,
-    0.777777777777777777777777777778,
+    7.0 / 9.0,
 ];
 const DP8_A: [&[f64]; 16] = [
     &[],
@@ -411,11 +404,33 @@ struct Work {
     y_stage: Vec<f64>,
     y_new: Vec<f64>,
     cont: Vec<Vec<f64>>,
+    err5: Vec<f64>,
+    err3: Vec<f64>,
 }
 
 impl Work {
     fn new(n: usize, stages: usize, cont: usize) -> Self {
-        Self { k: vec![vec![0.0; n]; stages], y_stage: vec![0.0; n], y_new: vec![0.0; n], cont: vec![vec![0.0; n]; cont] }
+        Self {
+            k: vec![vec![0.0; n]; stages],
+            y_stage: vec![0.0; n],
+            y_new: vec![0.0; n],
+            cont: vec![vec![0.0; n]; cont],
+            err5: vec![0.0; n],
+            err3: vec![0.0; n],
+        }
+    }
+}
+
+/// `out = h Σ_j w_j k_j` over the nonzero weights.
+fn combine(out: &mut [f64], h: f64, weights: &[f64], k: &[Vec<f64>]) {
+    out.iter_mut().for_each(|o| *o = 0.0);
+    for (&wj, kj) in weights.iter().zip(k) {
+        if wj != 0.0 {
+            let f = h * wj;
+            for (o, x) in out.iter_mut().zip(kj) {
+                *o += f * x;
+            }
+        }
     }
 }
 
@@ -452,8 +467,12 @@ pub fn integrate<S: OdeSystem + ?Sized, E>(
     }
     match method {
         Method::Rk4 { step } => fixed_rk4(system, step, t0, tf, &mut y, &mut stats, &mut on_step)?,
-        Method::Dopri5 { rtol, atol } => adaptive(system, &DOPRI5, rtol, atol, t0, tf, &mut y, &mut stats, &mut on_step)?,
-        Method::Dop853 { rtol, atol } => adaptive(system, &DOP853, rtol, atol, t0, tf, &mut y, &mut stats, &mut on_step)?,
+        Method::Dopri5 { rtol, atol } => {
+            adaptive(system, &DOPRI5, rtol, atol, t0, tf, &mut y, &mut stats, &mut on_step)?
+        }
+        Method::Dop853 { rtol, atol } => {
+            adaptive(system, &DOP853, rtol, atol, t0, tf, &mut y, &mut stats, &mut on_step)?
+        }
     }
     Ok(stats)
 }
@@ -566,22 +585,23 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             system.rhs(t + h, &w.y_new, &mut w.k[6]);
             stats.rhs_evaluations += 1;
         }
-        // Error estimate (Hairer's norms).
-        let mut err = 0.0;
-        let mut err2 = 0.0;
-        for i in 0..n {
-            let sk = atol + rtol * y[i].abs().max(w.y_new[i].abs());
-            let mut e = 0.0;
-            for (j, &ej) in tab.e.iter().enumerate() {
-                if ej != 0.0 {
-                    e += ej * w.k[j][i];
+        // Error estimate (Hairer's norms): err_5 = Σ e_j k_j and, for DOP853, the 3rd-order
+        // estimate Σ b_j k_j − (bhh1 k1 + bhh2 k9 + bhh3 k12).
+        combine(&mut w.err5, 1.0, tab.e, &w.k);
+        if is853 {
+            combine(&mut w.err3, 1.0, tab.b, &w.k);
+            for (&b, j) in DP8_BHH.iter().zip([0, 8, 11]) {
+                for (e, kj) in w.err3.iter_mut().zip(&w.k[j]) {
+                    *e -= b * kj;
                 }
             }
-            err += (e / sk).powi(2);
+        }
+        let (mut err, mut err2) = (0.0, 0.0);
+        for (i, (&yi, &yn)) in y.iter().zip(&w.y_new).enumerate() {
+            let sk = atol + rtol * yi.abs().max(yn.abs());
+            err += (w.err5[i] / sk).powi(2);
             if is853 {
-                let bsum = (w.y_new[i] - y[i]) / h;
-                let e3 = bsum - DP8_BHH[0] * w.k[0][i] - DP8_BHH[1] * w.k[8][i] - DP8_BHH[2] * w.k[11][i];
-                err2 += (e3 / sk).powi(2);
+                err2 += (w.err3[i] / sk).powi(2);
             }
         }
         let err = if is853 {
@@ -624,28 +644,10 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                 }
                 stats.rhs_evaluations += 3;
                 for (r, d) in DP8_D.iter().enumerate() {
-                    let c = &mut w.cont[4 + r];
-                    for i in 0..n {
-                        let mut acc = 0.0;
-                        for (j, &dj) in d.iter().enumerate() {
-                            if dj != 0.0 {
-                                acc += dj * w.k[j][i];
-                            }
-                        }
-                        c[i] = h * acc;
-                    }
+                    combine(&mut w.cont[4 + r], h, d, &w.k);
                 }
             } else {
-                let c = &mut w.cont[4];
-                for i in 0..n {
-                    let mut acc = 0.0;
-                    for (j, &dj) in DP5_D.iter().enumerate() {
-                        if dj != 0.0 {
-                            acc += dj * w.k[j][i];
-                        }
-                    }
-                    c[i] = h * acc;
-                }
+                combine(&mut w.cont[4], h, &DP5_D, &w.k);
             }
             let t_prev = t;
             t = if last { tf } else { t + h };

@@ -285,7 +285,9 @@ fn check_finite(ctx: &Ctx<'_>) -> Result<(), ScenarioError> {
             DeValue::Float(f) => {
                 let x: f64 = f.as_str().replace('_', "").parse().unwrap_or(f64::NAN);
                 if !x.is_finite() {
-                    return Err(ctx.at(Some(v.span()), format!("'{path}' is {}; every number must be finite", f.as_str())));
+                    return Err(
+                        ctx.at(Some(v.span()), format!("'{path}' is {}; every number must be finite", f.as_str()))
+                    );
                 }
             }
             DeValue::Array(a) => {
@@ -358,7 +360,8 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     let need = |v: &Option<Spanned<f64>>, key: &str, what: &str| -> Result<f64, ScenarioError> {
         match v {
             Some(x) => positive(ctx, x, key, ""),
-            None => Err(ctx.span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{}'", run.integrator.get_ref()))),
+            None => Err(ctx
+                .span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{}'", run.integrator.get_ref()))),
         }
     };
     let forbid = |v: &Option<Spanned<f64>>, key: &str| -> Result<(), ScenarioError> {
@@ -380,7 +383,10 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             Integrator::Rk4 { step: need(&run.step, "run.step", "fixed step in s")? }
         }
         other => {
-            return Err(ctx.span(&run.integrator, format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"rk4\"")));
+            return Err(ctx.span(
+                &run.integrator,
+                format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"rk4\""),
+            ));
         }
     };
     let settings = RunSettings { duration, output_step, integrator };
@@ -397,7 +403,8 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         if body_index.insert(name.clone(), i).is_some() {
             return Err(ctx.span(&b.name, format!("duplicate body name '{name}'; body names must be unique")));
         }
-        let inertia = matrix(b.inertia.get_ref()).filter(|_| !matches!(b.inertia.get_ref(), toml::Value::Float(_) | toml::Value::Integer(_)));
+        let inertia = matrix(b.inertia.get_ref())
+            .filter(|_| !matches!(b.inertia.get_ref(), toml::Value::Float(_) | toml::Value::Integer(_)));
         let inertia = inertia.ok_or_else(|| {
             ctx.span(&b.inertia, format!("body '{name}': 'inertia' must be 3 principal values [I1, I2, I3] or a full 3×3 tensor [[..],[..],[..]] in kg·m², body frame"))
         })?;
@@ -420,7 +427,14 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         }
         let lookup = |s: &Spanned<String>, key: &str| {
             body_index.get(s.get_ref()).copied().ok_or_else(|| {
-                ctx.span(s, format!("hinge '{name}': {key} '{}' is not a body; bodies are: {}", s.get_ref(), names(&raw.bodies)))
+                ctx.span(
+                    s,
+                    format!(
+                        "hinge '{name}': {key} '{}' is not a body; bodies are: {}",
+                        s.get_ref(),
+                        names(&raw.bodies)
+                    ),
+                )
             })
         };
         let parent = lookup(&h.parent, "parent")?;
@@ -460,13 +474,24 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     let mut preferred = Vec::new();
     for (key, v) in &raw.initial.hinge {
         let Some(&i) = hinge_index.get(key.get_ref()) else {
-            return Err(ctx.span(key, format!("initial.hinge.{}: no hinge of that name; hinges are: {}", key.get_ref(), hinge_names(&raw.hinges))));
+            return Err(ctx.span(
+                key,
+                format!(
+                    "initial.hinge.{}: no hinge of that name; hinges are: {}",
+                    key.get_ref(),
+                    hinge_names(&raw.hinges)
+                ),
+            ));
         };
         let r = v.get_ref();
         let theta = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
             .map_err(|m| ctx.span(v, format!("initial.hinge.{}: {m}", key.get_ref())))?;
         ic.hinges[i] = Some(HingeInitial {
-            twist: RelativeTwist { delta_in_a0: vec3(r.delta), delta_rate_in_a0: vec3(r.delta_rate), omega_rel_in_a: vec3(r.omega_rel) },
+            twist: RelativeTwist {
+                delta_in_a0: vec3(r.delta),
+                delta_rate_in_a0: vec3(r.delta_rate),
+                omega_rel_in_a: vec3(r.omega_rel),
+            },
             theta,
         });
         preferred.push(i);
@@ -475,10 +500,16 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     let mut attitude_keys = HashMap::new();
     for (key, v) in &raw.initial.body {
         let Some(&i) = body_index.get(key.get_ref()) else {
-            return Err(ctx.span(key, format!("initial.body.{}: no body of that name; bodies are: {}", key.get_ref(), names(&raw.bodies))));
+            return Err(ctx.span(
+                key,
+                format!("initial.body.{}: no body of that name; bodies are: {}", key.get_ref(), names(&raw.bodies)),
+            ));
         };
         if i == 0 {
-            return Err(ctx.span(key, format!("initial.body.{}: that is the hub; give its attitude in [initial.hub]", key.get_ref())));
+            return Err(ctx.span(
+                key,
+                format!("initial.body.{}: that is the hub; give its attitude in [initial.hub]", key.get_ref()),
+            ));
         }
         let r = v.get_ref();
         let att = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
@@ -491,7 +522,9 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
 
     // A body attitude replaces the angles of the tree hinge that places that body.
     for e in &model.tree {
-        if let (Some(span), Some(Some(HingeInitial { theta: Some(_), .. }))) = (attitude_keys.get(&e.to), ic.hinges.get(e.hinge)) {
+        if let (Some(span), Some(Some(HingeInitial { theta: Some(_), .. }))) =
+            (attitude_keys.get(&e.to), ic.hinges.get(e.hinge))
+        {
             return Err(ctx.at(
                 Some(span.clone()),
                 format!(
@@ -506,7 +539,10 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     let mut seen = std::collections::HashSet::new();
     for c in &columns {
         if !seen.insert(c) {
-            return Err(ctx.at(None, format!("output column '{c}' would appear twice; rename the body or hinge whose name makes it")));
+            return Err(ctx.at(
+                None,
+                format!("output column '{c}' would appear twice; rename the body or hinge whose name makes it"),
+            ));
         }
     }
 
@@ -516,7 +552,12 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
 fn check_name(ctx: &Ctx<'_>, name: &Spanned<String>, what: &str) -> Result<(), ScenarioError> {
     let n = name.get_ref();
     if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
-        return Err(ctx.span(name, format!("{what} name '{n}' must be non-empty and use only letters, digits, '_' and '-' (it names CSV columns)")));
+        return Err(ctx.span(
+            name,
+            format!(
+                "{what} name '{n}' must be non-empty and use only letters, digits, '_' and '-' (it names CSV columns)"
+            ),
+        ));
     }
     Ok(())
 }
@@ -537,7 +578,9 @@ fn parent_frame(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<toml::Value>) -> Result<
             let f: RawFrame = v.get_ref().clone().try_into().map_err(|e: toml::de::Error| {
                 ctx.span(v, format!("hinge '{hinge}' a0: {}; {help}", e.message().trim()))
             })?;
-            let position = f.position.ok_or_else(|| ctx.span(v, format!("hinge '{hinge}' a0: missing 'position' (m, parent frame)")))?;
+            let position = f
+                .position
+                .ok_or_else(|| ctx.span(v, format!("hinge '{hinge}' a0: missing 'position' (m, parent frame)")))?;
             let theta = angles(f.yaw, f.yaw_deg, f.pitch, f.pitch_deg, f.roll, f.roll_deg)
                 .map_err(|m| ctx.span(v, format!("hinge '{hinge}' a0: {m}")))?
                 .unwrap_or_default();
@@ -551,7 +594,12 @@ fn law(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box<dyn HingeL
     let l = v.get_ref();
     let mat = |m: &Spanned<toml::Value>, key: &str, unit: &str| {
         matrix(m.get_ref()).ok_or_else(|| {
-            ctx.span(m, format!("hinge '{hinge}' law.{key} must be a number, 3 numbers (a diagonal) or a 3×3 matrix, in {unit}"))
+            ctx.span(
+                m,
+                format!(
+                    "hinge '{hinge}' law.{key} must be a number, 3 numbers (a diagonal) or a 3×3 matrix, in {unit}"
+                ),
+            )
         })
     };
     let opt = |m: &Option<Spanned<toml::Value>>, key: &str, unit: &str| match m {

@@ -264,7 +264,10 @@ pub fn simulate(
         OdeError::NonFinite { t } => SimError::Integrator { t, message: "the state became non-finite".into() },
     })?;
     if out.output_times.peek().is_some() {
-        return Err(SimError::Integrator { t: out.t_reached, message: "the integrator stopped before the end of the run".into() });
+        return Err(SimError::Integrator {
+            t: out.t_reached,
+            message: "the integrator stopped before the end of the run".into(),
+        });
     }
     Ok(RunReport {
         simulated: settings.duration,

@@ -87,20 +87,38 @@ fn unknown_keys() {
     expect_error(|t| t.replace("mass = 100.0", "mass = 100.0\ncolour = \"red\""), Some("colour"), &["colour"]);
     expect_error(|t| t.replace("duration = 1.0", "duration = 1.0\nrtoll = 1e-9"), Some("rtoll"), &["rtoll"]);
     expect_error(
-        |t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = { position = [0.75, 0.0, 0.0], yaw_degrees = 3.0 }"),
+        |t| {
+            t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = { position = [0.75, 0.0, 0.0], yaw_degrees = 3.0 }")
+        },
         Some("yaw_degrees"),
         &["yaw_degrees", "h1"],
     );
-    expect_error(|t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, 0.0, 0.0]\nspin = 1.0"), Some("spin = 1.0"), &["spin"]);
+    expect_error(
+        |t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, 0.0, 0.0]\nspin = 1.0"),
+        Some("spin = 1.0"),
+        &["spin"],
+    );
     expect_error(|t| t.replace("type = \"paper-linear\"", "type = \"paper-linear\", k_x = 1.0"), Some("k_x"), &["k_x"]);
 }
 
 #[test]
 fn unknown_names() {
     expect_error(|t| t.replace("child = \"p1\"", "child = \"p9\""), Some("child = \"p9\""), &["p9", "hub, p1, p2"]);
-    expect_error(|t| t.replace("[initial.hinge.h1]", "[initial.hinge.h7]"), Some("[initial.hinge.h7]"), &["h7", "h1, h2"]);
-    expect_error(|t| t.replace("integrator = \"dop853\"", "integrator = \"euler\""), Some("integrator"), &["euler", "dop853"]);
-    expect_error(|t| t.replace("type = \"paper-linear\"", "type = \"linear\""), Some("type = \"linear\""), &["linear", "paper-linear", "euler-potential"]);
+    expect_error(
+        |t| t.replace("[initial.hinge.h1]", "[initial.hinge.h7]"),
+        Some("[initial.hinge.h7]"),
+        &["h7", "h1, h2"],
+    );
+    expect_error(
+        |t| t.replace("integrator = \"dop853\"", "integrator = \"euler\""),
+        Some("integrator"),
+        &["euler", "dop853"],
+    );
+    expect_error(
+        |t| t.replace("type = \"paper-linear\"", "type = \"linear\""),
+        Some("type = \"linear\""),
+        &["linear", "paper-linear", "euler-potential"],
+    );
 }
 
 #[test]
@@ -143,7 +161,11 @@ fn bad_mass() {
 #[test]
 fn bad_inertia() {
     let line = "inertia = [1.0, 1.0, 1.0]";
-    expect_error(|t| t.replacen(line, "inertia = [[1.0, 0.2, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]", 1), Some("0.2"), &["symmetric", "p1"]);
+    expect_error(
+        |t| t.replacen(line, "inertia = [[1.0, 0.2, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]", 1),
+        Some("0.2"),
+        &["symmetric", "p1"],
+    );
     expect_error(|t| t.replacen(line, "inertia = [1.0, -1.0, 1.0]", 1), Some("-1.0"), &["positive definite"]);
     expect_error(|t| t.replacen(line, "inertia = [1.0, 1.0, 3.0]", 1), Some("3.0]"), &["triangle inequality"]);
     expect_error(|t| t.replacen(line, "inertia = [1.0, 1.0]", 1), Some("[1.0, 1.0]"), &["inertia", "principal"]);
@@ -152,14 +174,22 @@ fn bad_inertia() {
 #[test]
 fn non_finite_numbers() {
     expect_error(|t| t.replacen("mass = 10.0", "mass = nan", 1), Some("mass = nan"), &["body[1].mass", "finite"]);
-    expect_error(|t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, inf, 0.0]"), Some("inf"), &["initial.hinge.h1.delta[1]", "finite"]);
+    expect_error(
+        |t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, inf, 0.0]"),
+        Some("inf"),
+        &["initial.hinge.h1.delta[1]", "finite"],
+    );
     expect_error(|t| t.replacen("k_theta = 10.0 }", "k_theta = -inf }", 1), Some("-inf"), &["k_theta", "finite"]);
 }
 
 #[test]
 fn bad_times() {
     expect_error(|t| t.replace("duration = 1.0", "duration = -1.0"), Some("duration"), &["run.duration", "> 0"]);
-    expect_error(|t| t.replace("output_step = 0.1", "output_step = 0.0"), Some("output_step"), &["run.output_step", "> 0"]);
+    expect_error(
+        |t| t.replace("output_step = 0.1", "output_step = 0.0"),
+        Some("output_step"),
+        &["run.output_step", "> 0"],
+    );
     expect_error(
         |t| t.replace("integrator = \"dop853\"\nrtol = 1e-9\natol = 1e-9", "integrator = \"rk4\"\nstep = -0.01"),
         Some("step = -0.01"),
@@ -172,15 +202,40 @@ fn bad_times() {
 #[test]
 fn conflicting_or_misplaced_values() {
     expect_error(
-        |t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = { position = [0.75, 0.0, 0.0], yaw = 0.1, yaw_deg = 5.0 }"),
+        |t| {
+            t.replace(
+                "a0 = { position = [0.75, 0.0, 0.0] }",
+                "a0 = { position = [0.75, 0.0, 0.0], yaw = 0.1, yaw_deg = 5.0 }",
+            )
+        },
         Some("yaw_deg = 5.0"),
         &["yaw", "yaw_deg"],
     );
-    expect_error(|t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = \"assembly\""), Some("assembly"), &["assembled"]);
-    expect_error(|t| t.replace("type = \"euler-potential\", k_f = 100.0", "type = \"euler-potential\", k_f = [[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"), Some("2.0, 0.0"), &["symmetric"]);
-    expect_error(|t| t.to_string() + "\n[initial.body.hub]\nyaw_deg = 3.0\n", Some("[initial.body.hub]"), &["hub", "initial.hub"]);
     expect_error(
-        |t| t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, 0.0, 0.0]\nyaw_deg = 2.0") + "\n[initial.body.p1]\nyaw_deg = 3.0\n",
+        |t| t.replace("a0 = { position = [0.75, 0.0, 0.0] }", "a0 = \"assembly\""),
+        Some("assembly"),
+        &["assembled"],
+    );
+    expect_error(
+        |t| {
+            t.replace(
+                "type = \"euler-potential\", k_f = 100.0",
+                "type = \"euler-potential\", k_f = [[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]",
+            )
+        },
+        Some("2.0, 0.0"),
+        &["symmetric"],
+    );
+    expect_error(
+        |t| t.to_string() + "\n[initial.body.hub]\nyaw_deg = 3.0\n",
+        Some("[initial.body.hub]"),
+        &["hub", "initial.hub"],
+    );
+    expect_error(
+        |t| {
+            t.replace("delta = [0.01, 0.0, 0.0]", "delta = [0.01, 0.0, 0.0]\nyaw_deg = 2.0")
+                + "\n[initial.body.p1]\nyaw_deg = 3.0\n"
+        },
         Some("[initial.body.p1]"),
         &["p1", "h1", "one or the other"],
     );

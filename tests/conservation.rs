@@ -60,7 +60,10 @@ omega = [0.2, -0.3, 0.4]
 pitch_deg = 10.0
 "#;
     let text = text
-        .replace("[initial.hinge.h1]\n", "[initial.hinge.h1]\ndelta_rate = [0.01, -0.02, 0.005]\nomega_rel = [0.1, 0.2, -0.3]\n")
+        .replace(
+            "[initial.hinge.h1]\n",
+            "[initial.hinge.h1]\ndelta_rate = [0.01, -0.02, 0.005]\nomega_rel = [0.1, 0.2, -0.3]\n",
+        )
         .replace("[initial.hinge.h31]\n", "[initial.hinge.h31]\nomega_rel = [-0.2, 0.1, 0.3]\n");
     let s = Scenario::from_toml(&text, "momentum").unwrap();
     let (_, obs, r) = run(&s);

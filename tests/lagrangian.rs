@@ -206,7 +206,11 @@ fn lagrange_qdd(model: &Model, g: &Gains, q: &[f64], qd: &[f64]) -> DVector<f64>
         let dd = nalgebra::Vector3::from(base.delta_rate[h]);
         let p = nalgebra::Vector3::from(phi(&base.theta[h]));
         let w = nalgebra::Vector3::from(base.omega_rel[h]);
-        let (fs, ts) = if g.euler_potential { (nalgebra::Vector3::zeros(), nalgebra::Vector3::zeros()) } else { (g.k_f * d, g.k_t * p) };
+        let (fs, ts) = if g.euler_potential {
+            (nalgebra::Vector3::zeros(), nalgebra::Vector3::zeros())
+        } else {
+            (g.k_f * d, g.k_t * p)
+        };
         f.push(fs + g.c_f * dd);
         tau.push(ts + g.c_t * w);
     }
@@ -233,11 +237,13 @@ fn lagrange_qdd(model: &Model, g: &Gains, q: &[f64], qd: &[f64]) -> DVector<f64>
         let kq = kin(model, &qj, &seed::<Dual<f64>>(qd));
         let dt_dq = kinetic(model, &kq).eps;
         let dv_dq = if g.euler_potential { potential(g, &kq).eps } else { 0.0 };
-        let df_dq: f64 = kq.delta.iter().zip(&f).map(|(d, fh)| fh.x * d[0].eps + fh.y * d[1].eps + fh.z * d[2].eps).sum();
+        let df_dq: f64 =
+            kq.delta.iter().zip(&f).map(|(d, fh)| fh.x * d[0].eps + fh.y * d[1].eps + fh.z * d[2].eps).sum();
         // Σ τ·∂ω_rel/∂q̇_j.
         let qdj: Vec<Dual<f64>> = qd.iter().zip(&ej).map(|(a, b)| Dual::new(*a, *b)).collect();
         let kv = kin(model, &seed::<Dual<f64>>(q), &qdj);
-        let dtau: f64 = kv.omega_rel.iter().zip(&tau).map(|(w, t)| t.x * w[0].eps + t.y * w[1].eps + t.z * w[2].eps).sum();
+        let dtau: f64 =
+            kv.omega_rel.iter().zip(&tau).map(|(w, t)| t.x * w[0].eps + t.y * w[1].eps + t.z * w[2].eps).sum();
         // (Ṁ q̇)_j = ∂²T/∂q̇_j∂q · q̇.
         let qh: Vec<HyperDual<f64>> = q.iter().zip(qd).map(|(a, b)| HyperDual::new(*a, *b, 0.0, 0.0)).collect();
         let qdh: Vec<HyperDual<f64>> = qd.iter().zip(&ej).map(|(a, b)| HyperDual::new(*a, 0.0, *b, 0.0)).collect();
@@ -277,10 +283,17 @@ fn check(s: &Scenario, g: Gains, states: usize) {
             .enumerate()
             .map(|(i, &x)| {
                 let within = i % 6;
-                x + if i < 3 { rng.uniform(1.0) } else if within < 3 { rng.uniform(0.02) } else { rng.uniform(0.3) }
+                x + if i < 3 {
+                    rng.uniform(1.0)
+                } else if within < 3 {
+                    rng.uniform(0.02)
+                } else {
+                    rng.uniform(0.3)
+                }
             })
             .collect();
-        let qd: Vec<f64> = (0..n).map(|i| if i % 6 < 3 && i >= 6 { rng.uniform(0.05) } else { rng.uniform(0.5) }).collect();
+        let qd: Vec<f64> =
+            (0..n).map(|i| if i % 6 < 3 && i >= 6 { rng.uniform(0.05) } else { rng.uniform(0.5) }).collect();
         let qdd = lagrange_qdd(model, &g, &q, &qd);
 
         // Body accelerations from q̈: second derivative along q(ε) = q + ε q̇ + ½ε² q̈.
@@ -321,7 +334,11 @@ fn check(s: &Scenario, g: Gains, states: usize) {
             for (e, l) in [(a_engine, a_lagrange), (wdot_engine, wdot_lagrange)] {
                 let err = (e - l).norm() / l.norm().max(1.0);
                 worst = worst.max(err);
-                assert!(err <= 1e-9, "body {}: engine {e:?} vs Lagrange {l:?} (relative {err:e})", model.bodies[i].name);
+                assert!(
+                    err <= 1e-9,
+                    "body {}: engine {e:?} vs Lagrange {l:?} (relative {err:e})",
+                    model.bodies[i].name
+                );
             }
         }
     }

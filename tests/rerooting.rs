@@ -16,9 +16,15 @@ fn base_text() -> String {
     std::fs::read_to_string(repo("examples/paper-3panel-euler.toml"))
         .unwrap()
         .replace("duration = 20.0", "duration = 10.0")
-        .replace("[initial.hinge.h1]\n", "[initial.hinge.h1]\ndelta_rate = [0.01, -0.02, 0.005]\nomega_rel = [0.1, 0.2, -0.3]\n")
+        .replace(
+            "[initial.hinge.h1]\n",
+            "[initial.hinge.h1]\ndelta_rate = [0.01, -0.02, 0.005]\nomega_rel = [0.1, 0.2, -0.3]\n",
+        )
         .replace("[initial.hinge.h2]\n", "[initial.hinge.h2]\nomega_rel = [-0.1, 0.05, 0.2]\n")
-        .replace("[initial.hinge.h31]\n", "[initial.hinge.h31]\ndelta_rate = [0.0, 0.01, 0.0]\nomega_rel = [-0.2, 0.1, 0.3]\n")
+        .replace(
+            "[initial.hinge.h31]\n",
+            "[initial.hinge.h31]\ndelta_rate = [0.0, 0.01, 0.0]\nomega_rel = [-0.2, 0.1, 0.3]\n",
+        )
 }
 
 /// The initial-value table of `hinge` as the base scenario's initial state has it.
@@ -27,7 +33,8 @@ fn initial_table(base: &Scenario, hinge: &str) -> String {
     let (y0, refs) = initial_state(m, &base.initial);
     let i = m.hinge_index(hinge).unwrap();
     let h = &m.hinges[i];
-    let k = hinge_kinematics(h, &BodyMotion::from_state(&y0, h.parent), &BodyMotion::from_state(&y0, h.child), &refs[i]);
+    let k =
+        hinge_kinematics(h, &BodyMotion::from_state(&y0, h.parent), &BodyMotion::from_state(&y0, h.child), &refs[i]);
     let v = |x: &nalgebra::Vector3<f64>| format!("[{:e}, {:e}, {:e}]", x.x, x.y, x.z);
     let s = &k.state;
     format!(

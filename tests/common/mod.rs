@@ -44,10 +44,7 @@ pub fn run(s: &Scenario) -> (Table, Vec<Observation>, RunReport) {
 pub fn read_csv(path: &Path) -> Table {
     let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let columns = r.headers().unwrap().iter().map(|s| s.trim().to_string()).collect();
-    let rows = r
-        .records()
-        .map(|rec| rec.unwrap().iter().map(|x| x.trim().parse::<f64>().unwrap()).collect())
-        .collect();
+    let rows = r.records().map(|rec| rec.unwrap().iter().map(|x| x.trim().parse::<f64>().unwrap()).collect()).collect();
     Table { columns, rows }
 }
 

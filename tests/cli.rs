@@ -1,0 +1,83 @@
+//! The `foldsim` binary end to end: a run writes the CSV atomically and prints the report; a
+//! bad scenario or a failed run leaves no file that looks complete.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn foldsim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_foldsim"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("foldsim-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn run_writes_csv_and_report() {
+    let dir = tmp("run");
+    let csv = dir.join("out.csv");
+    let out = foldsim()
+        .args(["run", concat!(env!("CARGO_MANIFEST_DIR"), "/examples/paper-3panel.toml"), "--csv"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    for needle in [
+        "simulated time",
+        "wall time",
+        "steps",
+        "rhs evaluations",
+        "linear momentum P",
+        "angular momentum H",
+        "barycenter",
+        "energy E",
+    ] {
+        assert!(stdout.contains(needle), "report lacks '{needle}':\n{stdout}");
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    assert!(header.starts_with("t,R_B_x,R_B_y,R_B_z,BR_B_x"));
+    assert!(header.contains("h32_delta_x") && header.ends_with("T,V,E"));
+    assert_eq!(lines.count(), 401, "rows at 0, 0.05, …, 20 s");
+    assert!(!dir.join("out.csv.partial").exists());
+    // Not on a terminal: no progress output.
+    assert!(out.stderr.is_empty(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn bad_scenario_is_reported_without_output() {
+    let dir = tmp("bad");
+    let scenario = dir.join("bad.toml");
+    let good = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/paper-1panel.toml")).unwrap();
+    std::fs::write(&scenario, good.replace("mass = 10.0", "mass = -10.0")).unwrap();
+    let csv = dir.join("bad.csv");
+    let out = foldsim().arg("run").arg(&scenario).arg("--csv").arg(&csv).output().unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("bad.toml:") && stderr.contains("mass"), "{stderr}");
+    assert!(!csv.exists() && !dir.join("bad.csv.partial").exists());
+}
+
+#[test]
+fn failed_run_leaves_only_partial_file() {
+    let dir = tmp("fail");
+    let scenario = dir.join("gimbal.toml");
+    let good =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/paper-1panel-euler.toml")).unwrap();
+    // Drive the hinge through pitch 90°.
+    let text = good
+        .replace("[initial.body.panel]\nroll_deg = 10.0\npitch_deg = 20.0\nyaw_deg = 30.0\n", "")
+        .replace("delta = [0.01, 0.01, 0.01]      # m, A0 frame", "pitch_deg = 85.0\nomega_rel = [0.0, 20.0, 0.0]");
+    std::fs::write(&scenario, text).unwrap();
+    let csv = dir.join("gimbal.csv");
+    let out = foldsim().arg("run").arg(&scenario).arg("--csv").arg(&csv).output().unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("h1") && stderr.contains("±90°") && stderr.contains(".partial"), "{stderr}");
+    assert!(!csv.exists(), "a failed run must not leave a complete-looking file");
+    assert!(dir.join("gimbal.csv.partial").exists());
+}

@@ -12,6 +12,8 @@
 //! states) → [`dynamics`] (equations of motion) → [`simulate`] (integration, streaming) →
 //! [`observe`] (outputs of MODEL.md §5). [`scenario`] reads TOML scenario files.
 
+#![warn(missing_docs)]
+
 pub mod dynamics;
 pub mod init;
 pub mod law;

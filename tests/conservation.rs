@@ -76,6 +76,14 @@ pitch_deg = 10.0
         "ΔH/scale = {:e}",
         d.angular_momentum / d.angular_momentum_scale
     );
+    eprintln!(
+        "nonzero momentum: |P0| = {:.3}, |H0| = {:.3}, relative drift P {:e}, H {:e}, E {:e}",
+        p0.norm(),
+        h0.norm(),
+        d.momentum / d.momentum_scale,
+        d.angular_momentum / d.angular_momentum_scale,
+        d.energy / d.energy_initial
+    );
     let m = s.model.total_mass();
     for o in &obs {
         let expected = obs[0].barycenter_in_n + p0 / m * o.t;

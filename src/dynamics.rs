@@ -6,7 +6,7 @@
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
 
-use crate::law::{HingeState, HingeWrench};
+use crate::law::{EventKind, HingeState, HingeWrench, LawMemory};
 use crate::math::{Euler321, Mat3, Vec3, quat_rate};
 use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
@@ -50,7 +50,7 @@ pub fn hinge_kinematics(h: &Hinge, parent: &BodyMotion, child: &BodyMotion, thet
     let delta_rate_in_a0 = dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n));
     let omega_rel_in_a = dcm_n_a.transpose() * (child.omega_in_n - parent.omega_in_n);
     HingeKinematics {
-        state: HingeState { delta_in_a0, delta_rate_in_a0, theta, omega_rel_in_a },
+        state: HingeState { delta_in_a0, delta_rate_in_a0, theta, dcm_a_a0, omega_rel_in_a },
         dcm_n_a0,
         dcm_n_a,
         arm_parent_in_n: arm_parent,
@@ -66,13 +66,35 @@ struct Scratch {
     torque_in_n: Vec<Vec3>,
 }
 
-/// The equations of motion of a model, with the continuous-angle references of its hinges.
+/// The equations of motion of a model, with the per-run memory of its hinges: the
+/// continuous-angle references and the laws' discrete memory.
+///
+/// The state vector holds the bodies (see [`crate::state`]) and then, per hinge, the energy
+/// it has dissipated since the start, J (the integral of
+/// [`crate::law::HingeLaw::dissipation_power`]).
 #[derive(Debug)]
 pub struct Dynamics<'m> {
     model: &'m Model,
     theta_refs: RefCell<Vec<Euler321>>,
+    memories: RefCell<Vec<LawMemory>>,
+    event_offsets: Vec<usize>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
+}
+
+/// A discrete change of a hinge law's memory, located in time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LawEvent {
+    /// Time, s.
+    pub t: f64,
+    /// Hinge index.
+    pub hinge: usize,
+    /// Kind of change.
+    pub kind: EventKind,
+    /// What happened, from the law.
+    pub description: String,
+    /// Energy the hinge had dissipated up to the event, J.
+    pub hinge_dissipated: f64,
 }
 
 /// How near pitch ±90° a hinge may come before the run stops, rad (MODEL.md §7).
@@ -82,9 +104,18 @@ impl<'m> Dynamics<'m> {
     /// Equations of motion of `model`; `theta_refs` are the hinges' initial continuous angles.
     pub fn new(model: &'m Model, theta_refs: Vec<Euler321>) -> Self {
         let nb = model.bodies.len();
+        let mut event_offsets = Vec::with_capacity(model.hinges.len() + 1);
+        let mut total = 0;
+        for h in &model.hinges {
+            event_offsets.push(total);
+            total += h.law.event_count();
+        }
+        event_offsets.push(total);
         Self {
             model,
             theta_refs: RefCell::new(theta_refs),
+            memories: RefCell::new(vec![LawMemory::default(); model.hinges.len()]),
+            event_offsets,
             scratch: RefCell::new(Scratch {
                 motions: vec![BodyMotion::default(); nb],
                 force_in_n: vec![Vec3::zeros(); nb],
@@ -109,32 +140,111 @@ impl<'m> Dynamics<'m> {
         self.theta_refs.borrow()
     }
 
+    /// The hinge laws' current memory.
+    pub fn memories(&self) -> std::cell::Ref<'_, Vec<LawMemory>> {
+        self.memories.borrow()
+    }
+
+    /// Length of the state vector: bodies, then one dissipated-energy integral per hinge.
+    pub fn state_len(&self) -> usize {
+        BODY_STATE_LEN * self.model.bodies.len() + self.model.hinges.len()
+    }
+
+    /// Index of hinge `h`'s dissipated energy in the state vector.
+    pub fn dissipation_index(&self, h: usize) -> usize {
+        BODY_STATE_LEN * self.model.bodies.len() + h
+    }
+
+    /// Kinematics of every hinge at state `y`, with the current references.
+    fn each_hinge<F: FnMut(usize, &HingeKinematics)>(&self, y: &[f64], mut f: F) {
+        let refs = self.theta_refs.borrow();
+        for (i, h) in self.model.hinges.iter().enumerate() {
+            let k =
+                hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+            f(i, &k);
+        }
+    }
+
+    /// Sets every law's memory from the initial state.
+    pub fn initialize_memory(&self, y: &[f64]) {
+        let mut mem = vec![LawMemory::default(); self.model.hinges.len()];
+        self.each_hinge(y, |i, k| mem[i] = self.model.hinges[i].law.initial_memory(&k.state));
+        *self.memories.borrow_mut() = mem;
+    }
+
+    /// Total number of event functions over all hinges.
+    pub fn event_count(&self) -> usize {
+        *self.event_offsets.last().unwrap_or(&0)
+    }
+
+    /// Every hinge's event function values at `y` (see
+    /// [`crate::law::HingeLaw::event_values`]), concatenated.
+    pub fn event_values(&self, y: &[f64], out: &mut [f64]) {
+        if self.event_count() == 0 {
+            return;
+        }
+        let mem = self.memories.borrow();
+        self.each_hinge(y, |i, k| {
+            let (a, b) = (self.event_offsets[i], self.event_offsets[i + 1]);
+            if b > a {
+                self.model.hinges[i].law.event_values(&k.state, &mem[i], &mut out[a..b]);
+            }
+        });
+    }
+
+    /// Event function `index` alone at `y`.
+    pub fn event_value(&self, index: usize, y: &[f64]) -> f64 {
+        let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
+        let h = &self.model.hinges[i];
+        let refs = self.theta_refs.borrow();
+        let k = hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+        let mut out = vec![0.0; h.law.event_count()];
+        h.law.event_values(&k.state, &self.memories.borrow()[i], &mut out);
+        out[index - self.event_offsets[i]]
+    }
+
+    /// Applies event function `index`'s change at state `y`, time `t`.
+    pub fn apply_event(&self, index: usize, t: f64, y: &[f64]) -> LawEvent {
+        let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
+        let h = &self.model.hinges[i];
+        let refs = self.theta_refs.borrow();
+        let k = hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+        let (kind, description) =
+            h.law.apply_event(index - self.event_offsets[i], &k.state, &mut self.memories.borrow_mut()[i]);
+        LawEvent { t, hinge: i, kind, description, hinge_dissipated: y[self.dissipation_index(i)] }
+    }
+
     /// Records an accepted state: moves every hinge's angle reference to its continuous
-    /// angles there. Fails, naming the hinge, if one is within [`GIMBAL_LOCK_MARGIN`] of
-    /// pitch ±90°, where 3-2-1 laws are singular (MODEL.md §7).
+    /// angles there and checks the laws' domains. Fails, naming the hinge, if an Euler-angle
+    /// law comes within [`GIMBAL_LOCK_MARGIN`] of pitch ±90°, where 3-2-1 laws are singular
+    /// (MODEL.md §7), or if a law's own check fails (a table's range, say).
     pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
         let mut refs = self.theta_refs.borrow_mut();
+        let memories = self.memories.borrow();
         for (i, h) in self.model.hinges.iter().enumerate() {
             let p = BodyMotion::from_state(y, h.parent);
             let c = BodyMotion::from_state(y, h.child);
             let k = hinge_kinematics(h, &p, &c, &refs[i]);
-            if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
-                return Err(format!(
-                    "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (MODEL.md §7), so the hinge law is not defined there",
-                    h.name,
-                    k.state.theta.pitch.to_degrees()
-                ));
+            if h.law.uses_euler_angles() {
+                if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
+                    return Err(format!(
+                        "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (MODEL.md §7), so the hinge law is not defined there",
+                        h.name,
+                        k.state.theta.pitch.to_degrees()
+                    ));
+                }
+                // Between accepted steps yaw and roll move continuously; a jump of more than
+                // a quarter turn means the step passed the singular pitch and the branch is lost.
+                let jump = (k.state.theta.yaw - refs[i].yaw).abs().max((k.state.theta.roll - refs[i].roll).abs());
+                if jump > std::f64::consts::FRAC_PI_2 {
+                    return Err(format!(
+                        "hinge '{}' passed near pitch ±90° before t = {t:.6} s (yaw or roll jumped by {:.1}° in one step): 3-2-1 Euler angles are singular there (MODEL.md §7)",
+                        h.name,
+                        jump.to_degrees()
+                    ));
+                }
             }
-            // Between accepted steps yaw and roll move continuously; a jump of more than a
-            // quarter turn means the step passed the singular pitch and the branch is lost.
-            let jump = (k.state.theta.yaw - refs[i].yaw).abs().max((k.state.theta.roll - refs[i].roll).abs());
-            if jump > std::f64::consts::FRAC_PI_2 {
-                return Err(format!(
-                    "hinge '{}' passed near pitch ±90° before t = {t:.6} s (yaw or roll jumped by {:.1}° in one step): 3-2-1 Euler angles are singular there (MODEL.md §7)",
-                    h.name,
-                    jump.to_degrees()
-                ));
-            }
+            h.law.check(&k.state, &memories[i]).map_err(|m| format!("hinge '{}' at t = {t:.6} s: {m}", h.name))?;
             refs[i] = k.state.theta;
         }
         Ok(())
@@ -145,6 +255,7 @@ impl<'m> Dynamics<'m> {
         self.evaluations.set(self.evaluations.get() + 1);
         let model = self.model;
         let refs = self.theta_refs.borrow();
+        let memories = self.memories.borrow();
         let mut scratch = self.scratch.borrow_mut();
         let Scratch { motions, force_in_n, torque_in_n } = &mut *scratch;
         for (i, m) in motions.iter_mut().enumerate() {
@@ -153,9 +264,12 @@ impl<'m> Dynamics<'m> {
         force_in_n.iter_mut().for_each(|f| *f = Vec3::zeros());
         torque_in_n.iter_mut().for_each(|t| *t = Vec3::zeros());
 
-        for (h, theta_ref) in model.hinges.iter().zip(refs.iter()) {
+        let diss0 = BODY_STATE_LEN * model.bodies.len();
+        for (i, (h, theta_ref)) in model.hinges.iter().zip(refs.iter()).enumerate() {
             let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], theta_ref);
-            let HingeWrench { force_in_a0, torque_in_a } = h.law.wrench(&k.state);
+            let memory = &memories[i];
+            let HingeWrench { force_in_a0, torque_in_a } = h.law.wrench(&k.state, memory);
+            dydt[diss0 + i] = h.law.dissipation_power(&k.state, memory);
             let f_n = k.dcm_n_a0 * force_in_a0;
             let tau_n = k.dcm_n_a * torque_in_a;
             force_in_n[h.parent] += f_n;

@@ -106,7 +106,8 @@ fn theta_for_attitude(h: &Hinge, reversed: bool, dcm_n_from: &Mat3, dcm_to_n: &M
     Euler321::from_dcm(&dcm_a_a0)
 }
 
-/// The body state and the continuous angle references for the given initial conditions.
+/// The state vector (bodies, then one zero per hinge for its dissipated energy) and the
+/// continuous angle references for the given initial conditions.
 ///
 /// Returns the state and, per hinge, the initial `θ_{A/A0}` (given values for tree hinges,
 /// which may lie outside the principal range; principal values for loop hinges).
@@ -132,7 +133,9 @@ pub fn initial_state(model: &Model, ic: &InitialConditions) -> (State, Vec<Euler
         theta_refs[e.hinge] = theta;
         motions[e.to] = place_motion(h, e.reversed, &from, theta, &init.twist);
     }
-    let state = state_from_motions(model, &motions);
+    let mut state: State = state_from_motions(model, &motions);
+    // Each hinge's dissipated energy starts at zero (see crate::dynamics::Dynamics).
+    state.resize(state.len() + model.hinges.len(), 0.0);
     for (i, h) in model.hinges.iter().enumerate() {
         if !model.is_tree_hinge[i] {
             let dcm_n_a0 = motions[h.parent].dcm_n_b * h.dcm_parent_a0;

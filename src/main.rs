@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use foldsim::output::CsvSink;
+use foldsim::law::EventKind;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -122,6 +123,7 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     );
     println!("    barycenter          {:.3e} m", d.barycenter);
     let e_rel = rel(d.energy, d.energy_initial.abs());
+    let scale = d.energy_initial.abs().max(d.dissipated.abs());
     if r.energy_conserving {
         println!("    energy E = T + V    {:.3e} J ({:.3e} relative; conserved by these laws)", d.energy, e_rel);
     } else {
@@ -129,5 +131,28 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, or the paper-linear law, MODEL.md §4)",
             d.energy, e_rel, d.energy_final_change
         );
+        println!("    dissipated by hinges D  {:.6e} J by the end (damping, hysteresis, stops; for the paper-linear law the work of its non-potential torque)", d.dissipated);
+        println!("    balance |Δ(E + D)|      {:.3e} J ({:.3e} relative)", d.energy_balance, rel(d.energy_balance, scale));
+    }
+    let notable: Vec<_> = r.events.iter().filter(|e| e.kind != EventKind::Branch).collect();
+    let branch = r.events.len() - notable.len();
+    if !r.events.is_empty() {
+        println!("  hinge events: {} located ({} hysteresis branch changes)", r.events.len(), branch);
+    }
+    for e in notable {
+        let h = &scenario.model.hinges[e.hinge];
+        println!("    t = {:.9} s  {}: {}", e.t, h.name, e.description);
+    }
+    for (i, e) in r.events.iter().enumerate() {
+        let first_latch = r.events[..i].iter().all(|p| p.hinge != e.hinge || p.kind != EventKind::Latch);
+        if e.kind == EventKind::Latch && first_latch {
+            let total = r.hinge_dissipated.get(e.hinge).copied().unwrap_or(0.0);
+            println!(
+                "    energy lost at and after latching, hinge {}: {:.6e} J (dissipated from t = {:.6} s to the end)",
+                scenario.model.hinges[e.hinge].name,
+                total - e.hinge_dissipated,
+                e.t
+            );
+        }
     }
 }

@@ -120,10 +120,50 @@ impl Euler321 {
         Vec3::new(t1, t2, t3)
     }
 
+    /// Euler-angle rates `θ̇ = B(θ)⁻¹ ω` for ω of X relative to Y in X components, rad/s
+    /// (MODEL.md §1). Singular at pitch ±π/2.
+    pub fn rates_from_omega(self, omega: &Vec3) -> Vec3 {
+        let (s2, c2) = self.pitch.sin_cos();
+        let (s3, c3) = self.roll.sin_cos();
+        let yaw_rate = (s3 * omega.y + c3 * omega.z) / c2;
+        Vec3::new(yaw_rate, c3 * omega.y - s3 * omega.z, omega.x + s2 * yaw_rate)
+    }
+
     /// Whether pitch is within `margin` rad of ±π/2, where every 3-2-1 law is singular.
     pub fn near_gimbal_lock(self, margin: f64) -> bool {
         self.pitch.abs() > PI / 2.0 - margin
     }
+}
+
+/// Rotation vector `r` (axis × angle, rad, |r| ≤ π) of the DCM `[X Y]`: frame X is frame Y
+/// turned by |r| about r, so `[Y X] = exp([r×])`; r has the same components in X and Y.
+pub fn rotation_vector(dcm_x_y: &Mat3) -> Vec3 {
+    let rot = nalgebra::Rotation3::from_matrix_unchecked(dcm_x_y.transpose());
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(&rot);
+    let (w, v) = (q.w, q.imag());
+    let (w, v) = if w < 0.0 { (-w, -v) } else { (w, v) };
+    let sin_half = v.norm();
+    if sin_half < 1e-12 {
+        // angle/sin(angle/2) → 2 as the angle → 0.
+        return v * 2.0;
+    }
+    let angle = 2.0 * sin_half.atan2(w);
+    v * (angle / sin_half)
+}
+
+/// Inverse of the right Jacobian of SO(3) at r: `ṙ = J_r(r)⁻¹ ω`, with ω the angular velocity
+/// of X relative to Y in X components for `[Y X] = exp([r×])`. Finite for |r| < 2π; its
+/// transpose maps a generalized force on r to the torque that does the same virtual work.
+pub fn rotation_vector_rate_matrix_inverse(r: &Vec3) -> Mat3 {
+    let angle = r.norm();
+    let k = skew(r);
+    let c = if angle < 1e-4 {
+        // 1/θ² − (1 + cos θ)/(2θ sin θ) = 1/12 + θ²/720 + …
+        1.0 / 12.0 + angle * angle / 720.0
+    } else {
+        1.0 / (angle * angle) - (1.0 + angle.cos()) / (2.0 * angle * angle.sin())
+    };
+    Mat3::identity() + k * 0.5 + k * k * c
 }
 
 /// `angle + 2πk` for the integer k that brings it nearest `reference`, rad.
@@ -210,6 +250,28 @@ mod tests {
         let g = Vec3::new(1.0, -2.0, 3.0);
         let tau = e.torque_from_generalized(&g);
         assert!((e.rate_matrix().transpose() * tau - g).abs().max() < 1e-13);
+    }
+
+    #[test]
+    fn euler_rates_invert_rate_matrix() {
+        let e = Euler321::new(0.3, -1.1, 2.0);
+        let w = Vec3::new(0.4, -0.2, 0.9);
+        assert!((e.rate_matrix() * e.rates_from_omega(&w) - w).abs().max() < 1e-14);
+    }
+
+    /// ω = J_r ṙ: check J_r⁻¹ against a numerical derivative of exp, and the log map.
+    #[test]
+    fn rotation_vector_kinematics() {
+        let r = Vec3::new(0.9, -1.4, 1.7); // |r| ≈ 2.4 rad, beyond Euler-friendly folds
+        let rdot = Vec3::new(0.3, 0.1, -0.5);
+        let exp = |v: &Vec3| nalgebra::Rotation3::new(*v).into_inner(); // [Y X]
+        assert!((rotation_vector(&exp(&r).transpose()) - r).abs().max() < 1e-12);
+        let h = 1e-6;
+        let rdot_dcm = (exp(&(r + rdot * h)) - exp(&(r - rdot * h))) / (2.0 * h);
+        // [ω×] = [Y X]ᵀ d[Y X]/dt (ω in X components)
+        let w = exp(&r).transpose() * rdot_dcm;
+        let omega = Vec3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+        assert!((rotation_vector_rate_matrix_inverse(&r) * omega - rdot).abs().max() < 1e-8);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The outputs of MODEL.md §5, computed from a state, and their CSV column names.
 
 use crate::dynamics::hinge_kinematics;
+use crate::law::LawMemory;
 use crate::math::{Euler321, Vec3};
 use crate::model::Model;
 use crate::state::BodyMotion;
@@ -34,6 +35,8 @@ pub struct Observation {
     pub kinetic_energy: f64,
     /// Hinge energy V (MODEL.md §4; not a potential for law 1), J.
     pub hinge_energy: f64,
+    /// Per hinge: energy dissipated since the start, J (∫ dissipation power dt).
+    pub hinge_dissipated: Vec<f64>,
     /// Scale of linear momentum `Σ m_i |Ṙ_i|`, kg·m/s, for relative drift figures.
     pub momentum_scale: f64,
     /// Scale of angular momentum `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)`, kg·m²/s.
@@ -44,6 +47,11 @@ impl Observation {
     /// Total energy `E = T + V`, J.
     pub fn energy(&self) -> f64 {
         self.kinetic_energy + self.hinge_energy
+    }
+
+    /// Energy dissipated by all hinges since the start, J; `E + D` is constant.
+    pub fn dissipated(&self) -> f64 {
+        self.hinge_dissipated.iter().sum()
     }
 }
 
@@ -59,9 +67,17 @@ impl Observer {
         Self { hub_theta_ref: hub_theta }
     }
 
-    /// Every output of MODEL.md §5 at time `t` for state `y`, with hinge angles continuous
-    /// near `theta_refs`. Calls must come in time order for the hub angles to stay continuous.
-    pub fn observe(&mut self, model: &Model, t: f64, y: &[f64], theta_refs: &[Euler321]) -> Observation {
+    /// Every output of MODEL.md §5 at time `t` for state `y` (bodies, then per-hinge
+    /// dissipated energy), with hinge angles continuous near `theta_refs` and the laws'
+    /// `memories`. Calls must come in time order for the hub angles to stay continuous.
+    pub fn observe(
+        &mut self,
+        model: &Model,
+        t: f64,
+        y: &[f64],
+        theta_refs: &[Euler321],
+        memories: &[LawMemory],
+    ) -> Observation {
         let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
         let hub = &motions[0];
         let hub_theta = Euler321::from_dcm(&hub.dcm_n_b.transpose()).unwrapped_near(&self.hub_theta_ref);
@@ -70,12 +86,14 @@ impl Observer {
         let mut hinge_delta_in_a0 = Vec::with_capacity(model.hinges.len());
         let mut hinge_theta = Vec::with_capacity(model.hinges.len());
         let mut hinge_energy = 0.0;
-        for (h, r) in model.hinges.iter().zip(theta_refs) {
+        for ((h, r), m) in model.hinges.iter().zip(theta_refs).zip(memories) {
             let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], r);
             hinge_delta_in_a0.push(k.state.delta_in_a0);
             hinge_theta.push(k.state.theta);
-            hinge_energy += h.law.stored_energy(&k.state);
+            hinge_energy += h.law.stored_energy(&k.state, m);
         }
+        let d0 = crate::state::BODY_STATE_LEN * model.bodies.len();
+        let hinge_dissipated = y.get(d0..d0 + model.hinges.len()).map_or_else(|| vec![0.0; model.hinges.len()], <[f64]>::to_vec);
 
         let mut mass_moment = Vec3::zeros();
         let mut momentum = Vec3::zeros();
@@ -108,6 +126,7 @@ impl Observer {
             angular_momentum_in_n: angular,
             kinetic_energy: kinetic,
             hinge_energy,
+            hinge_dissipated,
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
         }
@@ -134,7 +153,7 @@ pub fn columns(model: &Model) -> Vec<String> {
     xyz(&mut c, "Rc");
     xyz(&mut c, "P");
     xyz(&mut c, "H");
-    c.extend(["T", "V", "E"].map(String::from));
+    c.extend(["T", "V", "E", "D"].map(String::from));
     c
 }
 
@@ -157,6 +176,6 @@ pub fn row(o: &Observation) -> Vec<f64> {
     v(&mut r, &o.barycenter_in_n);
     v(&mut r, &o.momentum_in_n);
     v(&mut r, &o.angular_momentum_in_n);
-    r.extend_from_slice(&[o.kinetic_energy, o.hinge_energy, o.energy()]);
+    r.extend_from_slice(&[o.kinetic_energy, o.hinge_energy, o.energy(), o.dissipated()]);
     r
 }

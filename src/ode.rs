@@ -70,6 +70,22 @@ pub enum OdeError<E> {
     Callback(E),
 }
 
+/// What the step callback asks the integrator to do next.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Control {
+    /// Go on from the end of the accepted step.
+    Continue,
+    /// Go on from `(t, y)` instead, with `t` inside the step just accepted (for example an
+    /// event located by dense output, after which the right-hand side changes). The first
+    /// derivative is re-evaluated there.
+    Restart {
+        /// Time to restart from.
+        t: f64,
+        /// State to restart from.
+        y: Vec<f64>,
+    },
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum DenseKind {
     Hermite,
@@ -448,14 +464,15 @@ fn stage_point(out: &mut [f64], y: &[f64], h: f64, a: &[f64], k: &[Vec<f64>]) {
 }
 
 /// Integrates from `t0` to `tf`, calling `on_step` after every accepted step (and once at
-/// `t0` with a zero-length step). The callback may stop the run by returning an error.
+/// `t0` with a zero-length step, whose [`Control`] is ignored). The callback may stop the run
+/// by returning an error, or restart it from a point inside the step.
 pub fn integrate<S: OdeSystem + ?Sized, E>(
     system: &S,
     method: Method,
     t0: f64,
     tf: f64,
     y0: &[f64],
-    mut on_step: impl FnMut(&Step<'_>) -> Result<(), E>,
+    mut on_step: impl FnMut(&Step<'_>) -> Result<Control, E>,
 ) -> Result<Stats, OdeError<E>> {
     let n = y0.len();
     let mut stats = Stats::default();
@@ -484,16 +501,21 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
     tf: f64,
     y: &mut Vec<f64>,
     stats: &mut Stats,
-    on_step: &mut impl FnMut(&Step<'_>) -> Result<(), E>,
+    on_step: &mut impl FnMut(&Step<'_>) -> Result<Control, E>,
 ) -> Result<(), OdeError<E>> {
     let n = y.len();
     let mut w = Work::new(n, 5, 4);
-    let steps = (((tf - t0) / step) - 1e-9).ceil().max(1.0) as u64;
     system.rhs(t0, y, &mut w.k[0]);
     stats.rhs_evaluations += 1;
-    for i in 0..steps {
-        let t = t0 + i as f64 * step;
-        let t_next = if i + 1 == steps { tf } else { t0 + (i + 1) as f64 * step };
+    let mut t = t0;
+    while t < tf {
+        // Steps end on the grid t0 + i·step (and at tf), also after a restart.
+        let mut i = ((t - t0) / step).floor() + 1.0;
+        if t0 + i * step - t < 1e-9 * step {
+            i += 1.0;
+        }
+        let t_next = (t0 + i * step).min(tf);
+        let t_next = if tf - t_next < 1e-9 * step { tf } else { t_next };
         let h = t_next - t;
         for s in 1..4 {
             let (done, rest) = w.k.split_at_mut(s);
@@ -512,7 +534,15 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         std::mem::swap(y, &mut w.y_new);
         w.k.swap(0, 4);
         let s = Step { t_prev: t, t: t_next, y, kind: DenseKind::Hermite, cont: &w.cont };
-        on_step(&s).map_err(OdeError::Callback)?;
+        match on_step(&s).map_err(OdeError::Callback)? {
+            Control::Continue => t = t_next,
+            Control::Restart { t: tr, y: yr } => {
+                t = tr;
+                *y = yr;
+                system.rhs(t, y, &mut w.k[0]);
+                stats.rhs_evaluations += 1;
+            }
+        }
     }
     Ok(())
 }
@@ -539,7 +569,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     tf: f64,
     y: &mut Vec<f64>,
     stats: &mut Stats,
-    on_step: &mut impl FnMut(&Step<'_>) -> Result<(), E>,
+    on_step: &mut impl FnMut(&Step<'_>) -> Result<Control, E>,
 ) -> Result<(), OdeError<E>> {
     let n = y.len();
     let is853 = tab.order == 8;
@@ -658,9 +688,21 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             }
             last_rejected = false;
             let s = Step { t_prev, t, y, kind, cont: &w.cont };
-            on_step(&s).map_err(OdeError::Callback)?;
-            if last {
-                return Ok(());
+            match on_step(&s).map_err(OdeError::Callback)? {
+                Control::Continue => {
+                    if last {
+                        return Ok(());
+                    }
+                }
+                Control::Restart { t: tr, y: yr } => {
+                    t = tr;
+                    *y = yr;
+                    system.rhs(t, y, &mut w.k[0]);
+                    stats.rhs_evaluations += 1;
+                    if t >= tf {
+                        return Ok(());
+                    }
+                }
             }
             h = h_new.min(h_max);
         } else {
@@ -726,14 +768,14 @@ mod tests {
     fn errors(method: Method) -> (f64, f64, Stats) {
         let (mut end, mut dense) = (0.0f64, 0.0f64);
         let mut buf = [0.0; 2];
-        let stats = integrate(&Oscillator, method, 0.0, 10.0, &[1.0, 0.0], |s: &Step<'_>| -> Result<(), ()> {
+        let stats = integrate(&Oscillator, method, 0.0, 10.0, &[1.0, 0.0], |s: &Step<'_>| -> Result<Control, ()> {
             end = end.max((s.y[0] - s.t.cos()).abs());
             for f in [0.1, 0.25, 0.5, 0.75, 0.9] {
                 let tm = s.t_prev + f * (s.t - s.t_prev);
                 s.interpolate(tm, &mut buf);
                 dense = dense.max((buf[0] - tm.cos()).abs());
             }
-            Ok(())
+            Ok(Control::Continue)
         })
         .unwrap();
         (end, dense, stats)

@@ -5,11 +5,11 @@
 //! produced from the dense output at each output time and handed to a sink as they are made,
 //! so memory does not grow with the length of a run.
 
-use crate::dynamics::Dynamics;
+use crate::dynamics::{Dynamics, LawEvent};
 use crate::init::{InitialConditions, initial_state};
 use crate::model::Model;
 use crate::observe::{Observation, Observer};
-use crate::ode::{Method, OdeError, Step, integrate};
+use crate::ode::{Control, Method, OdeError, Step, integrate};
 use std::time::Instant;
 use thiserror::Error;
 
@@ -78,6 +78,10 @@ pub struct Drift {
     pub energy_initial: f64,
     /// E at the last row minus E(0), J.
     pub energy_final_change: f64,
+    /// Energy dissipated by the hinges by the last row, J.
+    pub dissipated: f64,
+    /// max |(E + D)(t) − (E + D)(0)|: the energy balance, J.
+    pub energy_balance: f64,
 }
 
 /// What a finished run reports.
@@ -99,6 +103,10 @@ pub struct RunReport {
     pub drift: Drift,
     /// True if every hinge law conserves E (so `drift.energy` should be small).
     pub energy_conserving: bool,
+    /// Located law events (latches, stop contacts, hysteresis branch changes), in time order.
+    pub events: Vec<LawEvent>,
+    /// Per hinge: energy dissipated over the run, J.
+    pub hinge_dissipated: Vec<f64>,
 }
 
 /// Why a run stopped early.
@@ -139,10 +147,15 @@ struct StreamOut<'d, 'm, 's, 'p> {
     progress: Option<&'p mut dyn FnMut(f64)>,
     output_times: OutputTimes,
     first: Option<Observation>,
+    last: Option<Observation>,
     drift: Drift,
     rows: usize,
     t_reached: f64,
     buffer: Vec<f64>,
+    /// Event function values at the start of the current step.
+    g_prev: Vec<f64>,
+    g_end: Vec<f64>,
+    events: Vec<LawEvent>,
 }
 
 /// Output times `k · step` below `end`, then `end`.
@@ -174,7 +187,13 @@ impl OutputTimes {
 
 impl StreamOut<'_, '_, '_, '_> {
     fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
-        let o = self.observer.observe(self.dynamics.model(), t, y, &self.dynamics.theta_refs());
+        let o = self.observer.observe(
+            self.dynamics.model(),
+            t,
+            y,
+            &self.dynamics.theta_refs(),
+            &self.dynamics.memories(),
+        );
         if let Some(first) = &self.first {
             let d = &mut self.drift;
             d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n).norm());
@@ -182,6 +201,9 @@ impl StreamOut<'_, '_, '_, '_> {
             d.barycenter = d.barycenter.max((o.barycenter_in_n - first.barycenter_in_n).norm());
             d.energy = d.energy.max((o.energy() - first.energy()).abs());
             d.energy_final_change = o.energy() - first.energy();
+            d.dissipated = o.dissipated();
+            let balance = o.energy() + o.dissipated() - first.energy() - first.dissipated();
+            d.energy_balance = d.energy_balance.max(balance.abs());
         } else {
             self.drift.energy_initial = o.energy();
             self.first = Some(o.clone());
@@ -190,19 +212,19 @@ impl StreamOut<'_, '_, '_, '_> {
         self.drift.angular_momentum_scale = self.drift.angular_momentum_scale.max(o.angular_momentum_scale);
         self.sink.record(&o).map_err(SimError::Output)?;
         self.rows += 1;
+        self.last = Some(o);
         Ok(())
     }
 
-    /// Emits every output row inside the accepted step, then moves the hinge angle
-    /// references to the step's end.
-    fn on_step(&mut self, step: &Step<'_>) -> Result<(), SimError> {
-        let tol = 1e-12 * step.t.abs().max(1.0);
+    /// Emits every output row up to `t_end` (inclusive) from the step's dense output.
+    fn emit_until(&mut self, step: &Step<'_>, t_end: f64, y_end: &[f64]) -> Result<(), SimError> {
+        let tol = 1e-12 * t_end.abs().max(1.0);
         while let Some(t_out) = self.output_times.peek() {
-            if t_out > step.t + tol {
+            if t_out > t_end + tol {
                 break;
             }
-            if (t_out - step.t).abs() <= tol {
-                self.emit(t_out, step.y)?;
+            if (t_out - t_end).abs() <= tol {
+                self.emit(t_out, y_end)?;
             } else {
                 let mut y = std::mem::take(&mut self.buffer);
                 y.resize(step.y.len(), 0.0);
@@ -213,12 +235,87 @@ impl StreamOut<'_, '_, '_, '_> {
             }
             self.output_times.advance();
         }
+        Ok(())
+    }
+
+    /// The earliest zero crossing of a law event function inside the step, if any:
+    /// `(index, t*, y(t*))` with t* just past the crossing (function already negative).
+    fn locate_event(&mut self, step: &Step<'_>) -> Option<(usize, f64, Vec<f64>)> {
+        if self.g_prev.is_empty() || step.t == step.t_prev {
+            return None;
+        }
+        self.dynamics.event_values(step.y, &mut self.g_end);
+        let mut best: Option<(usize, f64, Vec<f64>)> = None;
+        let mut y = vec![0.0; step.y.len()];
+        for k in 0..self.g_prev.len() {
+            if !(self.g_prev[k] >= 0.0 && self.g_end[k] < 0.0) {
+                continue;
+            }
+            // Illinois regula falsi on g(t) = event k at the dense-output state.
+            let (mut a, mut ga) = (step.t_prev, self.g_prev[k]);
+            let (mut b, mut gb) = (step.t, self.g_end[k]);
+            let tol = 1e-13 * b.abs().max(1.0);
+            let mut side = 0;
+            for _ in 0..100 {
+                if b - a <= tol {
+                    break;
+                }
+                let mut c = b - gb * (b - a) / (gb - ga);
+                if !(c > a && c < b) {
+                    c = 0.5 * (a + b);
+                }
+                step.interpolate(c, &mut y);
+                let gc = self.dynamics.event_value(k, &y);
+                if gc < 0.0 {
+                    b = c;
+                    gb = gc;
+                    if side == -1 {
+                        ga *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    a = c;
+                    ga = gc;
+                    if side == 1 {
+                        gb *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            if best.as_ref().is_none_or(|(_, t, _)| b < *t) {
+                step.interpolate(b, &mut y);
+                best = Some((k, b, y.clone()));
+            }
+        }
+        best
+    }
+
+    /// Handles an accepted step: outputs, law events (which restart the integration at the
+    /// event), angle references and checks.
+    fn on_step(&mut self, step: &Step<'_>) -> Result<Control, SimError> {
+        if let Some((k, t_event, y_event)) = self.locate_event(step) {
+            self.emit_until(step, t_event, &y_event)?;
+            self.dynamics.accept(t_event, &y_event).map_err(SimError::Physics)?;
+            let event = self.dynamics.apply_event(k, t_event, &y_event);
+            self.events.push(event);
+            self.dynamics.event_values(&y_event, &mut self.g_prev);
+            self.t_reached = t_event;
+            if let Some(p) = self.progress.as_mut() {
+                p(t_event);
+            }
+            return Ok(Control::Restart { t: t_event, y: y_event });
+        }
+        self.emit_until(step, step.t, step.y)?;
         self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
+        std::mem::swap(&mut self.g_prev, &mut self.g_end);
+        if step.t == step.t_prev {
+            self.dynamics.event_values(step.y, &mut self.g_prev);
+        }
         self.t_reached = step.t;
         if let Some(p) = self.progress.as_mut() {
             p(step.t);
         }
-        Ok(())
+        Ok(Control::Continue)
     }
 }
 
@@ -233,6 +330,8 @@ pub fn simulate(
 ) -> Result<RunReport, SimError> {
     let (y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
+    dynamics.initialize_memory(&y0);
+    let n_events = dynamics.event_count();
     let mut out = StreamOut {
         dynamics: &dynamics,
         observer: Observer::new(ic.hub_attitude),
@@ -240,10 +339,14 @@ pub fn simulate(
         progress,
         output_times: OutputTimes { step: settings.output_step, end: settings.duration, next: 0, done: false },
         first: None,
+        last: None,
         drift: Drift::default(),
         rows: 0,
         t_reached: 0.0,
         buffer: Vec::new(),
+        g_prev: vec![0.0; n_events],
+        g_end: vec![0.0; n_events],
+        events: Vec::new(),
     };
     let start = Instant::now();
     let method = match settings.integrator {
@@ -278,5 +381,7 @@ pub fn simulate(
         rows: out.rows,
         drift: out.drift,
         energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy()),
+        hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
+        events: out.events,
     })
 }

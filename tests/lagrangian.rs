@@ -314,9 +314,10 @@ fn check(s: &Scenario, g: Gains, states: usize) {
                 }
             })
             .collect();
-        let y = state_from_motions(model, &motions);
+        let mut y = state_from_motions(model, &motions);
         let refs: Vec<Euler321> = base.theta.iter().map(|t| Euler321::new(t[0], t[1], t[2])).collect();
         let dynamics = Dynamics::new(model, refs);
+        y.resize(dynamics.state_len(), 0.0);
         let mut dydt = vec![0.0; y.len()];
         dynamics.rhs(&y, &mut dydt);
 

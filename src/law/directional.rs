@@ -1,0 +1,426 @@
+//! A hinge law built direction by direction (MODEL.md §4 law 3 and the hinge-law issue):
+//! each of the six relative coordinates — δx, δy, δz (A0 components) and three rotation
+//! coordinates — has its own response, rest value, damping and optional end stop or latch.
+//!
+//! Rotation coordinates are either the Euler angles `φ = (roll, pitch, yaw)` of `[A A0]`
+//! (directions `rx`, `ry`, `rz` = about axes 1, 2, 3, as in the paper's eq. 15b) or the
+//! rotation vector `r` of `[A A0]` (no singularity short of a 180° fold). A response `f_i`
+//! is a generalized restoring force on coordinate `q_i`: the generalized force is `−f_i`, so
+//! forces are `F = (f_x, f_y, f_z)` and the torque is `B(θ)⁻ᵀ` (Euler) or `J_r(r)⁻ᵀ` (rotation
+//! vector) applied to the rotational `f`. Responses that depend only on their own coordinate
+//! have a potential, so the law is conservative unless it damps, slips or hits a damped stop.
+//!
+//! Tape-spring hysteresis is a Prandtl slip element on the decreasing branch: the force is
+//! `f_dec(u) + s` with `0 ≤ s ≤ f_inc(u) − f_dec(u)`; `s` sticks (changes elastically with the
+//! transition stiffness `k₀`) after a reversal and slides along either branch once it reaches
+//! it. The force is continuous; the mode is discrete memory changed by located events.
+
+use super::table::{Outside, Table};
+use super::{DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, LawMemory, SlipMode};
+use crate::math::{Mat3, Vec3, rotation_vector, rotation_vector_rate_matrix_inverse};
+
+/// Names of the six directions, in order.
+pub const DIRECTION_NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+/// Which rotation coordinates the rotational directions use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Angles {
+    /// 3-2-1 Euler angles: rx = roll θ3, ry = pitch θ2, rz = yaw θ1 (singular at pitch ±90°).
+    Euler,
+    /// Rotation vector of `[A A0]` (axis × angle, |r| ≤ π).
+    RotationVector,
+}
+
+/// Tape-spring response: separate branches for increasing and decreasing coordinate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TapeSpring {
+    /// Branch while the coordinate increases (loading for a positive fold).
+    pub increasing: Table,
+    /// Branch while the coordinate decreases (unloading for a positive fold); also the
+    /// elastic reference whose integral is the stored energy.
+    pub decreasing: Table,
+    /// Stiffness of the elastic transition between branches after a reversal, N·m/rad or N/m.
+    pub transition_stiffness: f64,
+}
+
+impl TapeSpring {
+    /// Gap between branches `f_inc(u) − f_dec(u)` and its derivative.
+    fn gap(&self, u: f64) -> (f64, f64) {
+        let (fi, dfi) = self.increasing.eval(u);
+        let (fd, dfd) = self.decreasing.eval(u);
+        (fi - fd, dfi - dfd)
+    }
+
+    /// Slip force `s` in a mode.
+    fn slip(&self, u: f64, mode: SlipMode) -> f64 {
+        match mode {
+            SlipMode::Decreasing => 0.0,
+            SlipMode::Increasing => self.gap(u).0,
+            SlipMode::Stick { q_r, s_r } => s_r + self.transition_stiffness * (u - q_r),
+        }
+    }
+}
+
+/// The response of one direction to its coordinate `u = q − rest`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Response {
+    /// No force.
+    Free,
+    /// `f = k u`.
+    Linear {
+        /// Stiffness, N/m or N·m/rad.
+        k: f64,
+    },
+    /// `f = table(u)`.
+    Table(Table),
+    /// Hysteretic tape spring.
+    TapeSpring(TapeSpring),
+}
+
+/// An end stop at `at`: a stiff damped spring that acts while the coordinate is beyond it,
+/// and, with `lock`, holds the coordinate at `at` from its first contact on (a latch).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stop {
+    /// Stop position (coordinate, not offset by rest), m or rad.
+    pub at: f64,
+    /// True if the free side is `q ≥ at` (the stop resists going below), false if `q ≤ at`.
+    pub free_above: bool,
+    /// Contact stiffness, N/m or N·m/rad.
+    pub stiffness: f64,
+    /// Contact damping, N·s/m or N·m·s/rad.
+    pub damping: f64,
+    /// Latch: once reached, the stop holds on both sides for the rest of the run.
+    pub lock: bool,
+}
+
+/// One direction of a [`DirectionalLaw`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Direction {
+    /// Response to `u = q − rest`.
+    pub response: Response,
+    /// Rest value (preload: the coordinate at which the response is zero), m or rad.
+    pub rest: f64,
+    /// Viscous damping on the coordinate rate, N·s/m or N·m·s/rad.
+    pub damping: f64,
+    /// Optional end stop or latch.
+    pub stop: Option<Stop>,
+}
+
+impl Direction {
+    /// A free direction: no force.
+    pub fn free() -> Self {
+        Self { response: Response::Free, rest: 0.0, damping: 0.0, stop: None }
+    }
+
+    /// A linear spring about zero.
+    pub fn linear(k: f64) -> Self {
+        Self { response: Response::Linear { k }, rest: 0.0, damping: 0.0, stop: None }
+    }
+
+    /// Restoring force, stored energy and dissipation power at coordinate q, rate qd.
+    fn evaluate(&self, q: f64, qd: f64, m: &DirectionMemory) -> (f64, f64, f64) {
+        let u = q - self.rest;
+        let (mut f, mut v, mut p) = match &self.response {
+            Response::Free => (0.0, 0.0, 0.0),
+            Response::Linear { k } => (k * u, 0.5 * k * u * u, 0.0),
+            Response::Table(t) => (t.eval(u).0, t.integral(u), 0.0),
+            Response::TapeSpring(ts) => {
+                let s = ts.slip(u, m.slip);
+                let k0 = ts.transition_stiffness;
+                let f = ts.decreasing.eval(u).0 + s;
+                let v = ts.decreasing.integral(u) + 0.5 * s * s / k0;
+                let p = if m.slip == SlipMode::Increasing {
+                    let (gap, dgap) = ts.gap(u);
+                    gap * qd * (1.0 - dgap / k0)
+                } else {
+                    0.0
+                };
+                (f, v, p)
+            }
+        };
+        f += self.damping * qd;
+        p += self.damping * qd * qd;
+        if let Some(stop) = &self.stop
+            && (m.in_contact || m.latched)
+        {
+            let pen = q - stop.at;
+            f += stop.stiffness * pen + stop.damping * qd;
+            v += 0.5 * stop.stiffness * pen * pen;
+            p += stop.damping * qd * qd;
+        }
+        (f, v, p)
+    }
+
+    fn conservative(&self) -> bool {
+        self.damping == 0.0
+            && !matches!(self.response, Response::TapeSpring(_))
+            && self.stop.is_none_or(|s| s.damping == 0.0)
+    }
+
+    fn has_events(&self) -> bool {
+        matches!(self.response, Response::TapeSpring(_)) || self.stop.is_some()
+    }
+}
+
+/// A law given direction by direction (see the module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DirectionalLaw {
+    /// Rotation coordinates.
+    pub angles: Angles,
+    /// x, y, z, rx, ry, rz.
+    pub directions: [Direction; 6],
+}
+
+/// Event slots per direction: two for the slip element, one for the stop.
+const SLOTS: usize = 3;
+
+impl DirectionalLaw {
+    /// Coordinates and rates `(q, q̇)` of the six directions, and for rotation vectors the
+    /// matrix `J_r(r)⁻¹`.
+    fn coordinates(&self, s: &HingeState) -> ([f64; 6], [f64; 6], Option<Mat3>) {
+        let d = s.delta_in_a0;
+        let dd = s.delta_rate_in_a0;
+        match self.angles {
+            Angles::Euler => {
+                let phi = s.theta.phi();
+                let rate = s.theta.rates_from_omega(&s.omega_rel_in_a);
+                (
+                    [d.x, d.y, d.z, phi.x, phi.y, phi.z],
+                    [dd.x, dd.y, dd.z, rate.z, rate.y, rate.x],
+                    None,
+                )
+            }
+            Angles::RotationVector => {
+                let r = rotation_vector(&s.dcm_a_a0);
+                let j_inv = rotation_vector_rate_matrix_inverse(&r);
+                let rate = j_inv * s.omega_rel_in_a;
+                ([d.x, d.y, d.z, r.x, r.y, r.z], [dd.x, dd.y, dd.z, rate.x, rate.y, rate.z], Some(j_inv))
+            }
+        }
+    }
+
+    fn any_events(&self) -> bool {
+        self.directions.iter().any(Direction::has_events)
+    }
+}
+
+impl HingeLaw for DirectionalLaw {
+    fn wrench(&self, state: &HingeState, memory: &LawMemory) -> HingeWrench {
+        let (q, qd, j_inv) = self.coordinates(state);
+        let mut f = [0.0; 6];
+        for i in 0..6 {
+            f[i] = self.directions[i].evaluate(q[i], qd[i], &memory.directions[i]).0;
+        }
+        let g_rot = Vec3::new(f[3], f[4], f[5]);
+        let torque_in_a = match j_inv {
+            None => state.theta.torque_from_generalized(&Vec3::new(f[5], f[4], f[3])),
+            Some(j_inv) => j_inv.transpose() * g_rot,
+        };
+        HingeWrench { force_in_a0: Vec3::new(f[0], f[1], f[2]), torque_in_a }
+    }
+
+    fn stored_energy(&self, state: &HingeState, memory: &LawMemory) -> f64 {
+        let (q, qd, _) = self.coordinates(state);
+        (0..6).map(|i| self.directions[i].evaluate(q[i], qd[i], &memory.directions[i]).1).sum()
+    }
+
+    fn dissipation_power(&self, state: &HingeState, memory: &LawMemory) -> f64 {
+        let (q, qd, _) = self.coordinates(state);
+        (0..6).map(|i| self.directions[i].evaluate(q[i], qd[i], &memory.directions[i]).2).sum()
+    }
+
+    fn conserves_energy(&self) -> bool {
+        self.directions.iter().all(Direction::conservative)
+    }
+
+    fn uses_euler_angles(&self) -> bool {
+        self.angles == Angles::Euler
+    }
+
+    fn name(&self) -> &'static str {
+        "directional"
+    }
+
+    fn initial_memory(&self, state: &HingeState) -> LawMemory {
+        let (q, qd, _) = self.coordinates(state);
+        let mut m = LawMemory::default();
+        for (i, d) in self.directions.iter().enumerate() {
+            let u = q[i] - d.rest;
+            if let Response::TapeSpring(ts) = &d.response {
+                // Moving: the branch of the motion. At rest: the branch it is about to take
+                // under its own restoring force.
+                m.directions[i].slip = if qd[i] > 0.0 || (qd[i] == 0.0 && ts.decreasing.eval(u).0 < 0.0) {
+                    SlipMode::Increasing
+                } else {
+                    SlipMode::Decreasing
+                };
+            }
+            if let Some(stop) = &d.stop {
+                let pen = if stop.free_above { stop.at - q[i] } else { q[i] - stop.at };
+                m.directions[i].in_contact = pen > 0.0;
+                m.directions[i].latched = pen > 0.0 && stop.lock;
+            }
+        }
+        m
+    }
+
+    fn event_count(&self) -> usize {
+        if self.any_events() { 6 * SLOTS } else { 0 }
+    }
+
+    fn event_values(&self, state: &HingeState, memory: &LawMemory, out: &mut [f64]) {
+        let (q, qd, _) = self.coordinates(state);
+        for (i, d) in self.directions.iter().enumerate() {
+            let m = &memory.directions[i];
+            let slots = &mut out[SLOTS * i..SLOTS * (i + 1)];
+            slots.fill(1.0);
+            let u = q[i] - d.rest;
+            if let Response::TapeSpring(ts) = &d.response {
+                match m.slip {
+                    SlipMode::Increasing => slots[0] = qd[i],
+                    SlipMode::Decreasing => slots[0] = -qd[i],
+                    SlipMode::Stick { .. } => {
+                        let s = ts.slip(u, m.slip);
+                        slots[0] = s;
+                        slots[1] = ts.gap(u).0 - s;
+                    }
+                }
+            }
+            if let Some(stop) = &d.stop
+                && !m.latched
+            {
+                let beyond = if stop.free_above { stop.at - q[i] } else { q[i] - stop.at };
+                slots[2] = if m.in_contact { beyond } else { -beyond };
+            }
+        }
+    }
+
+    fn apply_event(&self, k: usize, state: &HingeState, memory: &mut LawMemory) -> (EventKind, String) {
+        let (q, _, _) = self.coordinates(state);
+        let (i, slot) = (k / SLOTS, k % SLOTS);
+        let d = &self.directions[i];
+        let m = &mut memory.directions[i];
+        let name = DIRECTION_NAMES[i];
+        let u = q[i] - d.rest;
+        match (slot, &d.response, m.slip) {
+            (0, Response::TapeSpring(ts), SlipMode::Increasing) => {
+                m.slip = SlipMode::Stick { q_r: u, s_r: ts.gap(u).0 };
+                (EventKind::Branch, format!("{name}: reversal at {:.6} (increasing → elastic)", q[i]))
+            }
+            (0, Response::TapeSpring(_), SlipMode::Decreasing) => {
+                m.slip = SlipMode::Stick { q_r: u, s_r: 0.0 };
+                (EventKind::Branch, format!("{name}: reversal at {:.6} (decreasing → elastic)", q[i]))
+            }
+            (0, Response::TapeSpring(_), SlipMode::Stick { .. }) => {
+                m.slip = SlipMode::Decreasing;
+                (EventKind::Branch, format!("{name}: slides on the decreasing branch at {:.6}", q[i]))
+            }
+            (1, Response::TapeSpring(_), SlipMode::Stick { .. }) => {
+                m.slip = SlipMode::Increasing;
+                (EventKind::Branch, format!("{name}: slides on the increasing branch at {:.6}", q[i]))
+            }
+            (2, _, _) => {
+                let stop = d.stop.as_ref().expect("stop events come from a stop");
+                if m.in_contact {
+                    m.in_contact = false;
+                    (EventKind::Separation, format!("{name}: leaves the stop at {:.6}", q[i]))
+                } else {
+                    m.in_contact = true;
+                    if stop.lock {
+                        m.latched = true;
+                        (EventKind::Latch, format!("{name}: latched at {:.6}", stop.at))
+                    } else {
+                        (EventKind::Contact, format!("{name}: hits the stop at {:.6}", stop.at))
+                    }
+                }
+            }
+            _ => (EventKind::Branch, String::new()),
+        }
+    }
+
+    fn check(&self, state: &HingeState, _memory: &LawMemory) -> Result<(), String> {
+        let (q, _, _) = self.coordinates(state);
+        for (i, d) in self.directions.iter().enumerate() {
+            let u = q[i] - d.rest;
+            let tables: Vec<&Table> = match &d.response {
+                Response::Table(t) => vec![t],
+                Response::TapeSpring(ts) => vec![&ts.increasing, &ts.decreasing],
+                _ => vec![],
+            };
+            for t in tables {
+                if t.outside() == Outside::Error && !t.contains(u) {
+                    let (a, b) = t.range();
+                    return Err(format!(
+                        "direction {}: coordinate − rest = {u:.6} is outside the table's range [{a}, {b}] (outside = \"error\")",
+                        DIRECTION_NAMES[i]
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::table::Interpolation;
+    use super::*;
+    use crate::math::Euler321;
+
+    fn tape() -> TapeSpring {
+        let inc = [(-0.1, -2.0), (0.0, 0.0), (0.02, 8.0), (0.1, 0.8), (3.0, 0.9)];
+        let dec = [(-0.1, -3.0), (0.0, 0.0), (0.02, 0.3), (0.1, 0.3), (3.0, 0.4)];
+        TapeSpring {
+            increasing: Table::new(&inc, Interpolation::Pchip, Outside::Extend).unwrap(),
+            decreasing: Table::new(&dec, Interpolation::Pchip, Outside::Extend).unwrap(),
+            transition_stiffness: 500.0,
+        }
+    }
+
+    /// Along any path and in every mode, the law's power balance holds:
+    /// f·q̇ = dV/dt + P_dissipated, checked by a central difference along a path (1e-6).
+    #[test]
+    fn power_balance_in_every_mode() {
+        let mut dirs: [Direction; 6] = std::array::from_fn(|_| Direction::linear(100.0));
+        dirs[5] = Direction {
+            response: Response::TapeSpring(tape()),
+            rest: 0.1,
+            damping: 0.05,
+            stop: Some(Stop { at: 0.1, free_above: true, stiffness: 1e3, damping: 2.0, lock: false }),
+        };
+        dirs[3] = Direction {
+            response: Response::Table(
+                Table::new(&[(-1.0, -5.0), (0.0, 0.0), (1.0, 3.0)], Interpolation::Linear, Outside::Clamp).unwrap(),
+            ),
+            rest: 0.0,
+            damping: 0.0,
+            stop: None,
+        };
+        for angles in [Angles::Euler, Angles::RotationVector] {
+            let law = DirectionalLaw { angles, directions: dirs.clone() };
+            for slip in [SlipMode::Decreasing, SlipMode::Increasing, SlipMode::Stick { q_r: 0.5, s_r: 0.2 }] {
+                let mut m = LawMemory::default();
+                m.directions[5].slip = slip;
+                m.directions[5].in_contact = true;
+                // A path: angles and δ moving with constant rates.
+                let omega = Vec3::new(0.2, -0.3, 0.7);
+                let path = |t: f64| {
+                    let theta = Euler321::new(0.4 + 0.7 * t, 0.1 - 0.3 * t, -0.2 + 0.2 * t);
+                    let delta = Vec3::new(0.01, -0.02, 0.005) + Vec3::new(0.1, 0.2, -0.1) * t;
+                    let mut s = HingeState::at(delta, theta);
+                    s.delta_rate_in_a0 = Vec3::new(0.1, 0.2, -0.1);
+                    s.omega_rel_in_a = theta.rate_matrix() * Vec3::new(0.7, -0.3, 0.2);
+                    s
+                };
+                let _ = omega;
+                let s0 = path(0.0);
+                let h = 1e-6;
+                let dv = (law.stored_energy(&path(h), &m) - law.stored_energy(&path(-h), &m)) / (2.0 * h);
+                let w = law.wrench(&s0, &m);
+                let power = w.force_in_a0.dot(&s0.delta_rate_in_a0) + w.torque_in_a.dot(&s0.omega_rel_in_a);
+                let p = law.dissipation_power(&s0, &m);
+                assert!((power - dv - p).abs() < 1e-6 * power.abs().max(1.0), "{angles:?} {slip:?}: {power} {dv} {p}");
+            }
+        }
+    }
+}

@@ -159,8 +159,12 @@ impl<'m> Dynamics<'m> {
     fn each_hinge<F: FnMut(usize, &HingeKinematics)>(&self, y: &[f64], mut f: F) {
         let refs = self.theta_refs.borrow();
         for (i, h) in self.model.hinges.iter().enumerate() {
-            let k =
-                hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+            let k = hinge_kinematics(
+                h,
+                &BodyMotion::from_state(y, h.parent),
+                &BodyMotion::from_state(y, h.child),
+                &refs[i],
+            );
             f(i, &k);
         }
     }
@@ -197,7 +201,8 @@ impl<'m> Dynamics<'m> {
         let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
         let h = &self.model.hinges[i];
         let refs = self.theta_refs.borrow();
-        let k = hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+        let k =
+            hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
         let mut out = vec![0.0; h.law.event_count()];
         h.law.event_values(&k.state, &self.memories.borrow()[i], &mut out);
         out[index - self.event_offsets[i]]
@@ -208,7 +213,8 @@ impl<'m> Dynamics<'m> {
         let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
         let h = &self.model.hinges[i];
         let refs = self.theta_refs.borrow();
-        let k = hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+        let k =
+            hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
         let (kind, description) =
             h.law.apply_event(index - self.event_offsets[i], &k.state, &mut self.memories.borrow_mut()[i]);
         LawEvent { t, hinge: i, kind, description, hinge_dissipated: y[self.dissipation_index(i)] }

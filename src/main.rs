@@ -1,8 +1,8 @@
 //! `foldsim`: command-line front end of the foldsim library.
 
 use clap::{Parser, Subcommand};
-use foldsim::output::CsvSink;
 use foldsim::law::EventKind;
+use foldsim::output::CsvSink;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -131,8 +131,15 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, or the paper-linear law, MODEL.md §4)",
             d.energy, e_rel, d.energy_final_change
         );
-        println!("    dissipated by hinges D  {:.6e} J by the end (damping, hysteresis, stops; for the paper-linear law the work of its non-potential torque)", d.dissipated);
-        println!("    balance |Δ(E + D)|      {:.3e} J ({:.3e} relative)", d.energy_balance, rel(d.energy_balance, scale));
+        println!(
+            "    dissipated by hinges D  {:.6e} J by the end (damping, hysteresis, stops; for the paper-linear law the work of its non-potential torque)",
+            d.dissipated
+        );
+        println!(
+            "    balance |Δ(E + D)|      {:.3e} J ({:.3e} relative)",
+            d.energy_balance,
+            rel(d.energy_balance, scale)
+        );
     }
     let notable: Vec<_> = r.events.iter().filter(|e| e.kind != EventKind::Branch).collect();
     let branch = r.events.len() - notable.len();

@@ -93,7 +93,8 @@ impl Observer {
             hinge_energy += h.law.stored_energy(&k.state, m);
         }
         let d0 = crate::state::BODY_STATE_LEN * model.bodies.len();
-        let hinge_dissipated = y.get(d0..d0 + model.hinges.len()).map_or_else(|| vec![0.0; model.hinges.len()], <[f64]>::to_vec);
+        let hinge_dissipated =
+            y.get(d0..d0 + model.hinges.len()).map_or_else(|| vec![0.0; model.hinges.len()], <[f64]>::to_vec);
 
         let mut mass_moment = Vec3::zeros();
         let mut momentum = Vec3::zeros();

@@ -4,7 +4,9 @@
 //! file, the line and column, and the key, and say what would be valid.
 
 use crate::init::{HingeInitial, InitialConditions, RelativeTwist};
-use crate::law::{EulerPotential, HingeLaw, LinearGains, PaperLinear};
+use crate::law::directional::{Angles, DIRECTION_NAMES, Direction, DirectionalLaw, Response, Stop, TapeSpring};
+use crate::law::table::{Interpolation, Outside, Table};
+use crate::law::{EulerPotential, HingeLaw, LinearGains, PaperLinear, RotationVectorLinear};
 use crate::math::{Euler321, Mat3, Vec3};
 use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
 use crate::simulate::{Integrator, RunSettings};
@@ -129,10 +131,59 @@ struct RawChildFrame {
 struct RawLaw {
     #[serde(rename = "type")]
     kind: Spanned<String>,
-    k_f: Spanned<toml::Value>,
-    k_theta: Spanned<toml::Value>,
+    k_f: Option<Spanned<toml::Value>>,
+    k_theta: Option<Spanned<toml::Value>>,
     c_f: Option<Spanned<toml::Value>>,
     c_theta: Option<Spanned<toml::Value>>,
+    angles: Option<Spanned<String>>,
+    x: Option<Spanned<RawDirection>>,
+    y: Option<Spanned<RawDirection>>,
+    z: Option<Spanned<RawDirection>>,
+    rx: Option<Spanned<RawDirection>>,
+    ry: Option<Spanned<RawDirection>>,
+    rz: Option<Spanned<RawDirection>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawDirection {
+    free: Option<bool>,
+    k: Option<f64>,
+    table: Option<Spanned<RawTable>>,
+    tape_spring: Option<Spanned<RawTapeSpring>>,
+    rest: Option<f64>,
+    rest_deg: Option<f64>,
+    damping: Option<f64>,
+    stop: Option<Spanned<RawStop>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTable {
+    file: Option<String>,
+    points: Option<Vec<[f64; 2]>>,
+    interpolation: Spanned<String>,
+    outside: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTapeSpring {
+    increasing: Spanned<RawTable>,
+    decreasing: Spanned<RawTable>,
+    transition_stiffness: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStop {
+    at: Option<f64>,
+    at_deg: Option<f64>,
+    free: Spanned<String>,
+    stiffness: Spanned<f64>,
+    damping: Spanned<f64>,
+    #[serde(default)]
+    lock: bool,
 }
 
 #[derive(Deserialize, Default)]
@@ -190,6 +241,8 @@ struct RawAngles {
 struct Ctx<'a> {
     file: &'a str,
     text: &'a str,
+    /// Directory that relative paths in the file are resolved against.
+    base: &'a Path,
 }
 
 impl Ctx<'_> {
@@ -326,17 +379,23 @@ impl Scenario {
             location: None,
             message: format!("cannot read the scenario file: {e}"),
         })?;
-        let mut s = Self::from_toml(&text, &label)?;
+        let base = path.parent().unwrap_or(Path::new(""));
+        let mut s = Self::from_toml_in(&text, &label, base)?;
         if let Some(csv) = &s.csv {
-            let base = path.parent().unwrap_or(Path::new(""));
             s.csv = Some(base.join(csv));
         }
         Ok(s)
     }
 
-    /// Parses and checks scenario text; `file` labels error messages.
+    /// Parses and checks scenario text; `file` labels error messages; relative table paths
+    /// are resolved against the current directory.
     pub fn from_toml(text: &str, file: &str) -> Result<Self, ScenarioError> {
-        let ctx = Ctx { file, text };
+        Self::from_toml_in(text, file, Path::new(""))
+    }
+
+    /// As [`Scenario::from_toml`], resolving relative table paths against `base`.
+    pub fn from_toml_in(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
+        let ctx = Ctx { file, text, base };
         let raw: RawScenario = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message().trim().to_string()))?;
         check_finite(&ctx)?;
         build(&ctx, raw)
@@ -592,38 +651,262 @@ fn parent_frame(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<toml::Value>) -> Result<
 
 fn law(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box<dyn HingeLaw>, ScenarioError> {
     let l = v.get_ref();
-    let mat = |m: &Spanned<toml::Value>, key: &str, unit: &str| {
-        matrix(m.get_ref()).ok_or_else(|| {
+    let kind = l.kind.get_ref().as_str();
+    let directional_keys = [&l.x, &l.y, &l.z, &l.rx, &l.ry, &l.rz];
+    if kind == "directional" {
+        for (m, key) in [(&l.k_f, "k_f"), (&l.k_theta, "k_theta"), (&l.c_f, "c_f"), (&l.c_theta, "c_theta")] {
+            if let Some(m) = m {
+                return Err(ctx.span(
+                    m,
+                    format!("hinge '{hinge}': law.{key} does not apply to a directional law; give each direction its own response"),
+                ));
+            }
+        }
+        return directional(ctx, hinge, v);
+    }
+    if let Some(a) = &l.angles {
+        return Err(ctx.span(a, format!("hinge '{hinge}': law.angles applies only to type = \"directional\"")));
+    }
+    if let Some((d, name)) = directional_keys.iter().zip(DIRECTION_NAMES).find_map(|(d, n)| d.as_ref().map(|d| (d, n)))
+    {
+        return Err(ctx.span(d, format!("hinge '{hinge}': law.{name} applies only to type = \"directional\"")));
+    }
+    let mat = |m: &Option<Spanned<toml::Value>>, key: &str, unit: &str, required: bool| match m {
+        Some(m) => matrix(m.get_ref()).ok_or_else(|| {
             ctx.span(
                 m,
                 format!(
                     "hinge '{hinge}' law.{key} must be a number, 3 numbers (a diagonal) or a 3×3 matrix, in {unit}"
                 ),
             )
-        })
-    };
-    let opt = |m: &Option<Spanned<toml::Value>>, key: &str, unit: &str| match m {
-        Some(m) => mat(m, key, unit),
+        }),
+        None if required => Err(ctx.span(v, format!("hinge '{hinge}': law needs '{key}' ({unit})"))),
         None => Ok(Mat3::zeros()),
     };
     let gains = LinearGains {
-        k_f: mat(&l.k_f, "k_f", "N/m")?,
-        k_theta: mat(&l.k_theta, "k_theta", "N·m/rad")?,
-        c_f: opt(&l.c_f, "c_f", "N·s/m")?,
-        c_theta: opt(&l.c_theta, "c_theta", "N·m·s/rad")?,
+        k_f: mat(&l.k_f, "k_f", "N/m", true)?,
+        k_theta: mat(&l.k_theta, "k_theta", "N·m/rad", true)?,
+        c_f: mat(&l.c_f, "c_f", "N·s/m", false)?,
+        c_theta: mat(&l.c_theta, "c_theta", "N·m·s/rad", false)?,
     };
-    match l.kind.get_ref().as_str() {
+    let symmetric = |what: &str| -> Result<(), ScenarioError> {
+        for (m, key) in [(&gains.k_f, &l.k_f), (&gains.k_theta, &l.k_theta)] {
+            if (m - m.transpose()).abs().max() > 1e-12 * m.abs().max() {
+                let key = key.as_ref().expect("required above");
+                return Err(ctx.span(
+                    key,
+                    format!(
+                        "hinge '{hinge}': the {what} law needs symmetric stiffness matrices (a potential's Hessian)"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    };
+    match kind {
         "paper-linear" => Ok(Box::new(PaperLinear { gains })),
         "euler-potential" => {
-            for (m, key) in [(&gains.k_f, &l.k_f), (&gains.k_theta, &l.k_theta)] {
-                if (m - m.transpose()).abs().max() > 1e-12 * m.abs().max() {
-                    return Err(ctx.span(key, format!("hinge '{hinge}': the euler-potential law needs symmetric stiffness matrices (a potential's Hessian)")));
-                }
-            }
+            symmetric("euler-potential")?;
             Ok(Box::new(EulerPotential { gains }))
         }
-        other => Err(ctx.span(&l.kind, format!("hinge '{hinge}': unknown law type '{other}'; valid: \"paper-linear\" (MODEL.md §4 law 1), \"euler-potential\" (law 2)"))),
+        "rotation-vector" => {
+            symmetric("rotation-vector")?;
+            Ok(Box::new(RotationVectorLinear { gains }))
+        }
+        other => Err(ctx.span(
+            &l.kind,
+            format!(
+                "hinge '{hinge}': unknown law type '{other}'; valid: \"paper-linear\" (MODEL.md §4 law 1), \"euler-potential\" (law 2), \"rotation-vector\", \"directional\""
+            ),
+        )),
     }
+}
+
+fn directional(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box<dyn HingeLaw>, ScenarioError> {
+    let l = v.get_ref();
+    let angles = match l.angles.as_ref().map(|a| (a, a.get_ref().as_str())) {
+        Some((_, "euler")) => Angles::Euler,
+        Some((_, "rotation-vector")) => Angles::RotationVector,
+        Some((a, other)) => {
+            return Err(ctx.span(
+                a,
+                format!("hinge '{hinge}': law.angles '{other}' is not one of \"euler\", \"rotation-vector\""),
+            ));
+        }
+        None => {
+            return Err(ctx.span(
+                v,
+                format!("hinge '{hinge}': a directional law needs angles = \"euler\" or \"rotation-vector\""),
+            ));
+        }
+    };
+    let raw = [&l.x, &l.y, &l.z, &l.rx, &l.ry, &l.rz];
+    let mut dirs = Vec::with_capacity(6);
+    for (i, (d, name)) in raw.iter().zip(DIRECTION_NAMES).enumerate() {
+        let Some(d) = d else {
+            return Err(ctx.span(
+                v,
+                format!(
+                    "hinge '{hinge}': a directional law needs all six directions x, y, z, rx, ry, rz; '{name}' is missing (write {name} = {{ free = true }} for no force)"
+                ),
+            ));
+        };
+        dirs.push(direction(ctx, hinge, name, i >= 3, d)?);
+    }
+    let directions: [Direction; 6] = dirs.try_into().expect("six directions");
+    Ok(Box::new(DirectionalLaw { angles, directions }))
+}
+
+fn direction(
+    ctx: &Ctx<'_>,
+    hinge: &str,
+    name: &str,
+    rotational: bool,
+    d: &Spanned<RawDirection>,
+) -> Result<Direction, ScenarioError> {
+    let r = d.get_ref();
+    let here = |m: String| ctx.span(d, format!("hinge '{hinge}' law.{name}: {m}"));
+    let (unit, rate_unit) = if rotational { ("N·m/rad", "N·m·s/rad") } else { ("N/m", "N·s/m") };
+    let given = [r.free == Some(true), r.k.is_some(), r.table.is_some(), r.tape_spring.is_some()];
+    if given.iter().filter(|g| **g).count() != 1 || r.free == Some(false) {
+        return Err(here(format!(
+            "give exactly one response: free = true, k = <stiffness in {unit}>, table = {{ … }} or tape_spring = {{ … }}"
+        )));
+    }
+    let angle = |rad: Option<f64>, deg: Option<f64>, key: &str| -> Result<Option<f64>, ScenarioError> {
+        if !rotational && deg.is_some() {
+            return Err(here(format!("'{key}_deg' applies only to rotational directions; use '{key}' in m")));
+        }
+        one_angle(key, rad, deg).map_err(&here)
+    };
+    let rest = angle(r.rest, r.rest_deg, "rest")?.unwrap_or(0.0);
+    let damping = r.damping.unwrap_or(0.0);
+    if damping < 0.0 {
+        return Err(here(format!("damping must be ≥ 0 {rate_unit}, got {damping}")));
+    }
+    let response = if let Some(k) = r.k {
+        Response::Linear { k }
+    } else if let Some(t) = &r.table {
+        Response::Table(table(ctx, hinge, name, rotational, t)?)
+    } else if let Some(ts) = &r.tape_spring {
+        let raw = ts.get_ref();
+        let k0 = *raw.transition_stiffness.get_ref();
+        if k0 <= 0.0 {
+            return Err(ctx.span(
+                &raw.transition_stiffness,
+                format!("hinge '{hinge}' law.{name}: transition_stiffness must be > 0 {unit}"),
+            ));
+        }
+        let increasing = table(ctx, hinge, name, rotational, &raw.increasing)?;
+        let decreasing = table(ctx, hinge, name, rotational, &raw.decreasing)?;
+        // Hysteresis dissipates only if the increasing branch lies on or above the other.
+        let (a, b) = increasing.range();
+        let (c, e) = decreasing.range();
+        let (lo, hi) = (a.max(c), b.min(e));
+        for k in 0..=1000 {
+            let u = lo + (hi - lo) * k as f64 / 1000.0;
+            let (fi, fd) = (increasing.eval(u).0, decreasing.eval(u).0);
+            if fi < fd - 1e-12 * fd.abs().max(1.0) {
+                return Err(ctx.span(
+                    ts,
+                    format!(
+                        "hinge '{hinge}' law.{name}: the increasing branch must not lie below the decreasing one (at {u}: {fi} < {fd}); swap them if they are the other way round"
+                    ),
+                ));
+            }
+        }
+        Response::TapeSpring(TapeSpring { increasing, decreasing, transition_stiffness: k0 })
+    } else {
+        Response::Free
+    };
+    let stop = match &r.stop {
+        None => None,
+        Some(st) => {
+            let raw = st.get_ref();
+            let at = angle(raw.at, raw.at_deg, "at")?.ok_or_else(|| {
+                ctx.span(
+                    st,
+                    format!(
+                        "hinge '{hinge}' law.{name}.stop needs 'at'{}",
+                        if rotational { " or 'at_deg'" } else { "" }
+                    ),
+                )
+            })?;
+            let free_above = match raw.free.get_ref().as_str() {
+                "above" => true,
+                "below" => false,
+                other => {
+                    return Err(ctx.span(
+                        &raw.free,
+                        format!("hinge '{hinge}' law.{name}.stop.free '{other}' must be \"above\" (the stop resists going below 'at') or \"below\""),
+                    ));
+                }
+            };
+            let stiffness = positive(ctx, &raw.stiffness, &format!("law.{name}.stop.stiffness"), unit)?;
+            let damping = *raw.damping.get_ref();
+            if damping < 0.0 {
+                return Err(
+                    ctx.span(&raw.damping, format!("hinge '{hinge}' law.{name}.stop.damping must be ≥ 0 {rate_unit}"))
+                );
+            }
+            Some(Stop { at, free_above, stiffness, damping, lock: raw.lock })
+        }
+    };
+    Ok(Direction { response, rest, damping, stop })
+}
+
+fn table(
+    ctx: &Ctx<'_>,
+    hinge: &str,
+    name: &str,
+    rotational: bool,
+    t: &Spanned<RawTable>,
+) -> Result<Table, ScenarioError> {
+    let r = t.get_ref();
+    let here = |m: String| ctx.span(t, format!("hinge '{hinge}' law.{name} table: {m}"));
+    let interpolation = match r.interpolation.get_ref().as_str() {
+        "linear" => Interpolation::Linear,
+        "pchip" => Interpolation::Pchip,
+        other => {
+            return Err(ctx.span(
+                &r.interpolation,
+                format!("hinge '{hinge}' law.{name}: interpolation '{other}' must be \"linear\" or \"pchip\" (monotone C¹ cubic)"),
+            ));
+        }
+    };
+    let outside = match r.outside.get_ref().as_str() {
+        "error" => Outside::Error,
+        "clamp" => Outside::Clamp,
+        "extend" => Outside::Extend,
+        other => {
+            return Err(ctx.span(
+                &r.outside,
+                format!("hinge '{hinge}' law.{name}: outside '{other}' must be \"error\", \"clamp\" or \"extend\""),
+            ));
+        }
+    };
+    let points = match (&r.file, &r.points) {
+        (Some(file), None) => {
+            let path = ctx.base.join(file);
+            let (points, is_angle) = Table::read_csv(&path).map_err(&here)?;
+            if is_angle != rotational {
+                return Err(here(format!(
+                    "{} has {} but direction {name} is {}",
+                    path.display(),
+                    if is_angle { "angles" } else { "displacements" },
+                    if rotational {
+                        "rotational (angle_rad or angle_deg, moment_Nm)"
+                    } else {
+                        "translational (displacement_m, force_N)"
+                    }
+                )));
+            }
+            points
+        }
+        (None, Some(p)) => p.iter().map(|[q, f]| (*q, *f)).collect(),
+        _ => return Err(here("give either file = \"….csv\" or points = [[q, f], …] (SI units)".into())),
+    };
+    Table::new(&points, interpolation, outside).map_err(here)
 }
 
 fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError {

@@ -187,13 +187,8 @@ impl OutputTimes {
 
 impl StreamOut<'_, '_, '_, '_> {
     fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
-        let o = self.observer.observe(
-            self.dynamics.model(),
-            t,
-            y,
-            &self.dynamics.theta_refs(),
-            &self.dynamics.memories(),
-        );
+        let o =
+            self.observer.observe(self.dynamics.model(), t, y, &self.dynamics.theta_refs(), &self.dynamics.memories());
         if let Some(first) = &self.first {
             let d = &mut self.drift;
             d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n).norm());

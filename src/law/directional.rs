@@ -184,11 +184,7 @@ impl DirectionalLaw {
             Angles::Euler => {
                 let phi = s.theta.phi();
                 let rate = s.theta.rates_from_omega(&s.omega_rel_in_a);
-                (
-                    [d.x, d.y, d.z, phi.x, phi.y, phi.z],
-                    [dd.x, dd.y, dd.z, rate.z, rate.y, rate.x],
-                    None,
-                )
+                ([d.x, d.y, d.z, phi.x, phi.y, phi.z], [dd.x, dd.y, dd.z, rate.z, rate.y, rate.x], None)
             }
             Angles::RotationVector => {
                 let r = rotation_vector(&s.dcm_a_a0);

@@ -189,7 +189,8 @@ impl Table {
         let n = self.x.len();
         if q < a || q > b {
             let last = q > b;
-            let (x_end, f_end, base) = if last { (b, self.f[n - 1], self.cumulative[n - 1]) } else { (a, self.f[0], 0.0) };
+            let (x_end, f_end, base) =
+                if last { (b, self.f[n - 1], self.cumulative[n - 1]) } else { (a, self.f[0], 0.0) };
             let u = q - x_end;
             let extra = match self.outside {
                 Outside::Clamp => f_end * u,
@@ -254,7 +255,9 @@ impl Table {
                 return Err(format!("{}:{line}: expected 2 values, found {}", path.display(), record.len()));
             }
             let parse = |k: usize| -> Result<f64, String> {
-                record[k].parse::<f64>().map_err(|_| format!("{}:{line}: '{}' is not a number", path.display(), &record[k]))
+                record[k]
+                    .parse::<f64>()
+                    .map_err(|_| format!("{}:{line}: '{}' is not a number", path.display(), &record[k]))
             };
             points.push((parse(0)? * scale, parse(1)?));
         }

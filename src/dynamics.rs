@@ -226,7 +226,7 @@ impl<'m> Dynamics<'m> {
     /// (MODEL.md §7), or if a law's own check fails (a table's range, say).
     pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
         let mut refs = self.theta_refs.borrow_mut();
-        let memories = self.memories.borrow();
+        let mut memories = self.memories.borrow_mut();
         for (i, h) in self.model.hinges.iter().enumerate() {
             let p = BodyMotion::from_state(y, h.parent);
             let c = BodyMotion::from_state(y, h.child);
@@ -251,6 +251,7 @@ impl<'m> Dynamics<'m> {
                 }
             }
             h.law.check(&k.state, &memories[i]).map_err(|m| format!("hinge '{}' at t = {t:.6} s: {m}", h.name))?;
+            h.law.sync_memory(&k.state, &mut memories[i]);
             refs[i] = k.state.theta;
         }
         Ok(())

@@ -22,6 +22,8 @@ pub mod model;
 pub mod observe;
 pub mod ode;
 pub mod output;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod scenario;
 pub mod simulate;
 pub mod state;

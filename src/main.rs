@@ -35,6 +35,24 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Plot columns of an output CSV against time, as PNG.
+    #[cfg(feature = "plot")]
+    Plot {
+        /// Output CSV of `foldsim run`.
+        csv: PathBuf,
+        /// Columns to plot, comma-separated (e.g. h1_yaw,h2_yaw).
+        #[arg(long, value_delimiter = ',', required = true)]
+        columns: Vec<String>,
+        /// Show angle columns in degrees.
+        #[arg(long)]
+        degrees: bool,
+        /// Title of the plot.
+        #[arg(long, default_value = "")]
+        title: String,
+        /// PNG file to write.
+        #[arg(long, short)]
+        output: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -47,6 +65,16 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         },
+        #[cfg(feature = "plot")]
+        Command::Plot { csv, columns, degrees, title, output } => {
+            match foldsim::plot::plot_columns(&csv, &columns, degrees, &title, &output) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(message) => {
+                    eprintln!("error: {message}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
     }
 }
 

@@ -75,14 +75,19 @@ pub enum OdeError<E> {
 pub enum Control {
     /// Go on from the end of the accepted step.
     Continue,
-    /// Go on from `(t, y)` instead, with `t` inside the step just accepted (for example an
-    /// event located by dense output, after which the right-hand side changes). The first
-    /// derivative is re-evaluated there.
+    /// Go on from `(t, y)` instead (for example after an event that changes the right-hand
+    /// side at the end of the step). The first derivative is re-evaluated there.
     Restart {
         /// Time to restart from.
         t: f64,
         /// State to restart from.
         y: Vec<f64>,
+    },
+    /// Discard the step and take it again to end at `t` (inside the step): an event located
+    /// by dense output at `t`, so that no step straddles a change of the right-hand side.
+    Truncate {
+        /// Time the retaken step should end at.
+        t: f64,
     },
 }
 
@@ -508,6 +513,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
     system.rhs(t0, y, &mut w.k[0]);
     stats.rhs_evaluations += 1;
     let mut t = t0;
+    let mut forced_end: Option<f64> = None;
     while t < tf {
         // Steps end on the grid t0 + i·step (and at tf), also after a restart.
         let mut i = ((t - t0) / step).floor() + 1.0;
@@ -516,6 +522,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         }
         let t_next = (t0 + i * step).min(tf);
         let t_next = if tf - t_next < 1e-9 * step { tf } else { t_next };
+        let t_next = forced_end.take().unwrap_or(t_next);
         let h = t_next - t;
         for s in 1..4 {
             let (done, rest) = w.k.split_at_mut(s);
@@ -541,6 +548,14 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
                 *y = yr;
                 system.rhs(t, y, &mut w.k[0]);
                 stats.rhs_evaluations += 1;
+            }
+            Control::Truncate { t: tt } => {
+                // Take the step again from its start, to end at tt.
+                std::mem::swap(y, &mut w.y_new);
+                w.k.swap(0, 4);
+                stats.accepted -= 1;
+                stats.rejected += 1;
+                forced_end = Some(tt);
             }
         }
     }
@@ -702,6 +717,16 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                     if t >= tf {
                         return Ok(());
                     }
+                }
+                Control::Truncate { t: tt } => {
+                    // Take the step again from its start, to end at tt.
+                    t = t_prev;
+                    std::mem::swap(y, &mut w.y_new);
+                    w.k.swap(0, fsal);
+                    stats.accepted -= 1;
+                    stats.rejected += 1;
+                    h = tt - t_prev;
+                    continue;
                 }
             }
             h = h_new.min(h_max);

@@ -799,20 +799,31 @@ fn direction(
         }
         let increasing = table(ctx, hinge, name, rotational, &raw.increasing)?;
         let decreasing = table(ctx, hinge, name, rotational, &raw.decreasing)?;
-        // Hysteresis dissipates only if the increasing branch lies on or above the other.
-        let (a, b) = increasing.range();
-        let (c, e) = decreasing.range();
-        let (lo, hi) = (a.max(c), b.min(e));
-        for k in 0..=1000 {
-            let u = lo + (hi - lo) * k as f64 / 1000.0;
-            let (fi, fd) = (increasing.eval(u).0, decreasing.eval(u).0);
-            if fi < fd - 1e-12 * fd.abs().max(1.0) {
-                return Err(ctx.span(
-                    ts,
-                    format!(
-                        "hinge '{hinge}' law.{name}: the increasing branch must not lie below the decreasing one (at {u}: {fi} < {fd}); swap them if they are the other way round"
-                    ),
-                ));
+        // The slip element needs the increasing branch on or above the decreasing one
+        // everywhere. Both interpolants are checked at every data point of either table and,
+        // for PCHIP, at 64 points inside each interval (cubics can cross between points);
+        // beyond the data, as far again as the data span.
+        let mut at: Vec<f64> = increasing.points().iter().chain(decreasing.points()).copied().collect();
+        at.sort_by(f64::total_cmp);
+        at.dedup();
+        let span = at[at.len() - 1] - at[0];
+        at.insert(0, at[0] - span);
+        at.push(at[at.len() - 1] + span);
+        let fine =
+            increasing.interpolation() == Interpolation::Pchip || decreasing.interpolation() == Interpolation::Pchip;
+        let per = if fine { 64 } else { 1 };
+        for w in at.windows(2) {
+            for k in 0..=per {
+                let u = w[0] + (w[1] - w[0]) * k as f64 / per as f64;
+                let (fi, fd) = (increasing.eval(u).0, decreasing.eval(u).0);
+                if fi < fd - 1e-12 * fd.abs().max(1.0) {
+                    return Err(ctx.span(
+                        ts,
+                        format!(
+                            "hinge '{hinge}' law.{name}: the increasing branch lies below the decreasing one at {u:.6} ({fi:.6} < {fd:.6}); the branches must not cross (with pchip they can between data points: add points or use linear)"
+                        ),
+                    ));
+                }
             }
         }
         Response::TapeSpring(TapeSpring { increasing, decreasing, transition_stiffness: k0 })

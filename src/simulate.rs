@@ -156,6 +156,8 @@ struct StreamOut<'d, 'm, 's, 'p> {
     g_prev: Vec<f64>,
     g_end: Vec<f64>,
     events: Vec<LawEvent>,
+    /// An event located inside the last step, which the integrator is retaking to end there.
+    pending: Option<(usize, f64)>,
 }
 
 /// Output times `k · step` below `end`, then `end`.
@@ -234,13 +236,13 @@ impl StreamOut<'_, '_, '_, '_> {
     }
 
     /// The earliest zero crossing of a law event function inside the step, if any:
-    /// `(index, t*, y(t*))` with t* just past the crossing (function already negative).
-    fn locate_event(&mut self, step: &Step<'_>) -> Option<(usize, f64, Vec<f64>)> {
+    /// `(index, t*)` with t* just past the crossing (function already negative).
+    fn locate_event(&mut self, step: &Step<'_>) -> Option<(usize, f64)> {
         if self.g_prev.is_empty() || step.t == step.t_prev {
             return None;
         }
         self.dynamics.event_values(step.y, &mut self.g_end);
-        let mut best: Option<(usize, f64, Vec<f64>)> = None;
+        let mut best: Option<(usize, f64)> = None;
         let mut y = vec![0.0; step.y.len()];
         for k in 0..self.g_prev.len() {
             if !(self.g_prev[k] >= 0.0 && self.g_end[k] < 0.0) {
@@ -277,28 +279,73 @@ impl StreamOut<'_, '_, '_, '_> {
                     side = 1;
                 }
             }
-            if best.as_ref().is_none_or(|(_, t, _)| b < *t) {
-                step.interpolate(b, &mut y);
-                best = Some((k, b, y.clone()));
+            if best.is_none_or(|(_, t)| b < t) {
+                best = Some((k, b));
             }
         }
         best
     }
 
+    /// Applies law event `k` at `(t, y)` and resets the event functions' reference values.
+    /// Values a round-off below zero in the new memory count as zero (the state sits on the
+    /// switching surface); a crossing soon after is then found at the next step's start. Many
+    /// events at one instant mean the switching chatters, which is reported.
+    fn apply_event(&mut self, k: usize, t: f64, y: &[f64]) -> Result<(), SimError> {
+        let event = self.dynamics.apply_event(k, t, y);
+        let same_instant = self.events.iter().rev().take_while(|e| e.t == t).count();
+        if same_instant >= 100 {
+            let h = &self.dynamics.model().hinges[event.hinge];
+            return Err(SimError::Physics(format!(
+                "hinge '{}' switches without end at t = {t:.9} s ({}): its events chatter at one instant",
+                h.name, event.description
+            )));
+        }
+        self.events.push(event);
+        self.dynamics.event_values(y, &mut self.g_prev);
+        for g in &mut self.g_prev {
+            *g = g.max(0.0);
+        }
+        Ok(())
+    }
+
     /// Handles an accepted step: outputs, law events (which restart the integration at the
     /// event), angle references and checks.
+    ///
+    /// An event inside a step makes the integrator retake the step to end at the event (so
+    /// no step straddles the change of the right-hand side); at the end of that step the
+    /// law's memory changes and the integration restarts there.
     fn on_step(&mut self, step: &Step<'_>) -> Result<Control, SimError> {
-        if let Some((k, t_event, y_event)) = self.locate_event(step) {
-            self.emit_until(step, t_event, &y_event)?;
-            self.dynamics.accept(t_event, &y_event).map_err(SimError::Physics)?;
-            let event = self.dynamics.apply_event(k, t_event, &y_event);
-            self.events.push(event);
-            self.dynamics.event_values(&y_event, &mut self.g_prev);
-            self.t_reached = t_event;
+        let tiny = 1e-12 * step.t.abs().max(1.0);
+        let pending = self.pending.take();
+        let event = match pending {
+            // The retaken step ends at the located root (to round-off): the event happens here.
+            Some((k, t)) if (step.t - t).abs() <= tiny => Some(k),
+            _ => match self.locate_event(step) {
+                // At the very start of the step (a round-off past the previous step's end):
+                // apply it there rather than take a step too short for the integrator.
+                Some((k, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
+                    let mut y = vec![0.0; step.y.len()];
+                    step.interpolate(step.t_prev, &mut y);
+                    self.apply_event(k, step.t_prev, &y)?;
+                    return Ok(Control::Restart { t: step.t_prev, y });
+                }
+                Some((k, t)) if t < step.t - tiny => {
+                    self.pending = Some((k, t));
+                    return Ok(Control::Truncate { t });
+                }
+                Some((k, _)) => Some(k),
+                None => None,
+            },
+        };
+        if let Some(k) = event {
+            self.emit_until(step, step.t, step.y)?;
+            self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
+            self.apply_event(k, step.t, step.y)?;
+            self.t_reached = step.t;
             if let Some(p) = self.progress.as_mut() {
-                p(t_event);
+                p(step.t);
             }
-            return Ok(Control::Restart { t: t_event, y: y_event });
+            return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
         }
         self.emit_until(step, step.t, step.y)?;
         self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
@@ -342,6 +389,7 @@ pub fn simulate(
         g_prev: vec![0.0; n_events],
         g_end: vec![0.0; n_events],
         events: Vec::new(),
+        pending: None,
     };
     let start = Instant::now();
     let method = match settings.integrator {

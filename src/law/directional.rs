@@ -11,9 +11,12 @@
 //! have a potential, so the law is conservative unless it damps, slips or hits a damped stop.
 //!
 //! Tape-spring hysteresis is a Prandtl slip element on the decreasing branch: the force is
-//! `f_dec(u) + s` with `0 ≤ s ≤ f_inc(u) − f_dec(u)`; `s` sticks (changes elastically with the
-//! transition stiffness `k₀`) after a reversal and slides along either branch once it reaches
-//! it. The force is continuous; the mode is discrete memory changed by located events.
+//! `f_dec(u) + s` with `0 ≤ s ≤ gap(u) = f_inc(u) − f_dec(u)`; `s` sticks (changes
+//! elastically with the transition stiffness `k₀`) after a reversal and slides along either
+//! branch once it reaches it: on the decreasing branch while u decreases, on the increasing
+//! branch while the elastic path would cross it, `(k₀ − gap′(u)) u̇ ≥ 0` (for `gap′ < k₀`:
+//! while u increases). The force is continuous, the dissipation `gap (k₀ − gap′) u̇ / k₀` is
+//! never negative, and the mode is discrete memory changed by located events.
 
 use super::table::{Outside, Table};
 use super::{DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, LawMemory, SlipMode};
@@ -131,7 +134,7 @@ impl Direction {
                 let v = ts.decreasing.integral(u) + 0.5 * s * s / k0;
                 let p = if m.slip == SlipMode::Increasing {
                     let (gap, dgap) = ts.gap(u);
-                    gap * qd * (1.0 - dgap / k0)
+                    gap * (k0 - dgap) * qd / k0
                 } else {
                     0.0
                 };
@@ -158,7 +161,7 @@ impl Direction {
     }
 
     fn has_events(&self) -> bool {
-        matches!(self.response, Response::TapeSpring(_)) || self.stop.is_some()
+        matches!(self.response, Response::TapeSpring(_) | Response::Table(_)) || self.stop.is_some()
     }
 }
 
@@ -171,7 +174,8 @@ pub struct DirectionalLaw {
     pub directions: [Direction; 6],
 }
 
-/// Event slots per direction: two for the slip element, one for the stop.
+/// Event slots per direction: two for the slip element or a table's data points, one for
+/// the stop.
 const SLOTS: usize = 3;
 
 impl DirectionalLaw {
@@ -242,6 +246,9 @@ impl HingeLaw for DirectionalLaw {
         let mut m = LawMemory::default();
         for (i, d) in self.directions.iter().enumerate() {
             let u = q[i] - d.rest;
+            if let Response::Table(t) = &d.response {
+                m.directions[i].piece = t.piece(u);
+            }
             if let Response::TapeSpring(ts) = &d.response {
                 // Moving: the branch of the motion. At rest: the branch it is about to take
                 // under its own restoring force.
@@ -271,9 +278,16 @@ impl HingeLaw for DirectionalLaw {
             let slots = &mut out[SLOTS * i..SLOTS * (i + 1)];
             slots.fill(1.0);
             let u = q[i] - d.rest;
+            if let Response::Table(t) = &d.response {
+                let (lo, hi) = t.piece_bounds(m.piece);
+                slots[0] = if lo.is_finite() { u - lo } else { 1.0 };
+                slots[1] = if hi.is_finite() { hi - u } else { 1.0 };
+            }
             if let Response::TapeSpring(ts) = &d.response {
                 match m.slip {
-                    SlipMode::Increasing => slots[0] = qd[i],
+                    // Pinned at the increasing branch while the elastic path would not
+                    // pull below it: (k₀ − gap′) q̇ ≥ 0 (for gap′ < k₀ simply q̇ ≥ 0).
+                    SlipMode::Increasing => slots[0] = (ts.transition_stiffness - ts.gap(u).1) * qd[i],
                     SlipMode::Decreasing => slots[0] = -qd[i],
                     SlipMode::Stick { .. } => {
                         let s = ts.slip(u, m.slip);
@@ -315,6 +329,14 @@ impl HingeLaw for DirectionalLaw {
                 m.slip = SlipMode::Increasing;
                 (EventKind::Branch, format!("{name}: slides on the increasing branch at {:.6}", q[i]))
             }
+            (0, Response::Table(_), _) => {
+                m.piece -= 1;
+                (EventKind::Branch, format!("{name}: crosses a table point downward at {:.6}", q[i]))
+            }
+            (1, Response::Table(_), _) => {
+                m.piece += 1;
+                (EventKind::Branch, format!("{name}: crosses a table point upward at {:.6}", q[i]))
+            }
             (2, _, _) => {
                 let stop = d.stop.as_ref().expect("stop events come from a stop");
                 if m.in_contact {
@@ -334,7 +356,19 @@ impl HingeLaw for DirectionalLaw {
         }
     }
 
+    fn sync_memory(&self, state: &HingeState, memory: &mut LawMemory) {
+        let (q, _, _) = self.coordinates(state);
+        for (i, d) in self.directions.iter().enumerate() {
+            if let Response::Table(t) = &d.response {
+                memory.directions[i].piece = t.piece(q[i] - d.rest);
+            }
+        }
+    }
+
     fn check(&self, state: &HingeState, _memory: &LawMemory) -> Result<(), String> {
+        if self.angles == Angles::RotationVector {
+            super::check_rotation_vector(state)?;
+        }
         let (q, _, _) = self.coordinates(state);
         for (i, d) in self.directions.iter().enumerate() {
             let u = q[i] - d.rest;

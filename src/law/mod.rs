@@ -99,6 +99,9 @@ pub struct DirectionMemory {
     pub in_contact: bool,
     /// The latch has engaged and holds for good.
     pub latched: bool,
+    /// Piece of a table response the coordinate is in (see `Table::piece`): crossing a data
+    /// point is an event, so the integrator never steps over a kink of the response.
+    pub piece: i64,
 }
 
 /// Discrete memory a law keeps across steps, per direction (x, y, z, rx, ry, rz).
@@ -153,6 +156,10 @@ pub trait HingeLaw: Debug + Send + Sync {
     fn apply_event(&self, _k: usize, _state: &HingeState, _memory: &mut LawMemory) -> (EventKind, String) {
         (EventKind::Branch, String::new())
     }
+
+    /// Brings bookkeeping memory that does not change the response (such as which piece of
+    /// a table the coordinate is in) up to date at an accepted state.
+    fn sync_memory(&self, _state: &HingeState, _memory: &mut LawMemory) {}
 
     /// Checks an accepted state (e.g. a table's range with the `error` policy).
     fn check(&self, _state: &HingeState, _memory: &LawMemory) -> Result<(), String> {
@@ -328,6 +335,26 @@ impl HingeLaw for RotationVectorLinear {
     fn name(&self) -> &'static str {
         "rotation-vector"
     }
+
+    fn check(&self, state: &HingeState, _memory: &LawMemory) -> Result<(), String> {
+        check_rotation_vector(state)
+    }
+}
+
+/// How near a 180° rotation a rotation-vector law may come before the run stops, rad.
+pub const HALF_TURN_MARGIN: f64 = 1e-3;
+
+/// Rotation-vector laws are defined for rotations short of 180°: there the rotation vector
+/// jumps from r to −r (the same rotation, the other way round).
+pub(crate) fn check_rotation_vector(state: &HingeState) -> Result<(), String> {
+    let angle = rotation_vector(&state.dcm_a_a0).norm();
+    if angle > std::f64::consts::PI - HALF_TURN_MARGIN {
+        return Err(format!(
+            "the hinge rotated {:.4}° from A0: rotation-vector laws are defined for rotations short of 180°, where the rotation vector flips",
+            angle.to_degrees()
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

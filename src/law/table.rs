@@ -83,6 +83,16 @@ impl Table {
         (self.x[0], self.x[self.x.len() - 1])
     }
 
+    /// The data abscissae.
+    pub fn points(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The interpolation.
+    pub fn interpolation(&self) -> Interpolation {
+        self.interpolation
+    }
+
     /// The outside policy.
     pub fn outside(&self) -> Outside {
         self.outside
@@ -92,6 +102,30 @@ impl Table {
     pub fn contains(&self, q: f64) -> bool {
         let (a, b) = self.range();
         q >= a && q <= b
+    }
+
+    /// Index of the piece holding `q`: −1 below the first point, `n − 1` above the last,
+    /// else the segment `[x_i, x_{i+1})`.
+    pub fn piece(&self, q: f64) -> i64 {
+        let n = self.x.len() as i64;
+        if q < self.x[0] {
+            -1
+        } else if q >= self.x[self.x.len() - 1] {
+            n - 1
+        } else {
+            self.segment(q) as i64
+        }
+    }
+
+    /// Bounds `[lo, hi)` of piece `p` (see [`Table::piece`]), infinite outside the data.
+    pub fn piece_bounds(&self, p: i64) -> (f64, f64) {
+        let n = self.x.len() as i64;
+        let at = |i: i64| self.x[i as usize];
+        match p {
+            p if p < 0 => (f64::NEG_INFINITY, at(0)),
+            p if p >= n - 1 => (at(n - 1), f64::INFINITY),
+            p => (at(p), at(p + 1)),
+        }
     }
 
     fn segment(&self, q: f64) -> usize {

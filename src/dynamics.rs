@@ -6,6 +6,7 @@
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
 
+use crate::constraints::{Lock, Row, Workspace, constrain_accelerations, independent, project, rows_from};
 use crate::law::{EventKind, HingeState, HingeWrench, LawMemory};
 use crate::math::{Euler321, Mat3, Vec3, quat_rate};
 use crate::model::{Hinge, Model};
@@ -64,6 +65,12 @@ struct Scratch {
     motions: Vec<BodyMotion>,
     force_in_n: Vec<Vec3>,
     torque_in_n: Vec<Vec3>,
+    /// Per hinge, kept only when some direction is locked.
+    kinematics: Vec<Option<HingeKinematics>>,
+    rows: Vec<Row>,
+    accel: Vec<Vec3>,
+    alpha: Vec<Vec3>,
+    work: Workspace,
 }
 
 /// The equations of motion of a model, with the per-run memory of its hinges: the
@@ -77,6 +84,7 @@ pub struct Dynamics<'m> {
     model: &'m Model,
     theta_refs: RefCell<Vec<Euler321>>,
     memories: RefCell<Vec<LawMemory>>,
+    locks: RefCell<Vec<Lock>>,
     event_offsets: Vec<usize>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
@@ -115,11 +123,17 @@ impl<'m> Dynamics<'m> {
             model,
             theta_refs: RefCell::new(theta_refs),
             memories: RefCell::new(vec![LawMemory::default(); model.hinges.len()]),
+            locks: RefCell::new(Vec::new()),
             event_offsets,
             scratch: RefCell::new(Scratch {
                 motions: vec![BodyMotion::default(); nb],
                 force_in_n: vec![Vec3::zeros(); nb],
                 torque_in_n: vec![Vec3::zeros(); nb],
+                kinematics: vec![None; model.hinges.len()],
+                rows: Vec::new(),
+                accel: vec![Vec3::zeros(); nb],
+                alpha: vec![Vec3::zeros(); nb],
+                work: Workspace::default(),
             }),
             evaluations: Cell::new(0),
         }
@@ -169,11 +183,59 @@ impl<'m> Dynamics<'m> {
         }
     }
 
-    /// Sets every law's memory from the initial state.
+    /// Sets every law's memory from the initial state, and holds every locked direction at
+    /// its value there.
     pub fn initialize_memory(&self, y: &[f64]) {
         let mut mem = vec![LawMemory::default(); self.model.hinges.len()];
-        self.each_hinge(y, |i, k| mem[i] = self.model.hinges[i].law.initial_memory(&k.state));
+        let mut locks = Vec::new();
+        self.each_hinge(y, |i, k| {
+            let law = &self.model.hinges[i].law;
+            mem[i] = law.initial_memory(&k.state);
+            for (d, _) in law.locked_directions().iter().enumerate().filter(|(_, l)| **l) {
+                let target = if d < 3 {
+                    k.state.delta_in_a0[d]
+                } else {
+                    k.state.theta.as_vector()[match d {
+                        3 => 2,
+                        4 => 1,
+                        _ => 0,
+                    }]
+                };
+                locks.push(Lock { hinge: i, direction: d, target });
+            }
+        });
         *self.memories.borrow_mut() = mem;
+        *self.locks.borrow_mut() = locks;
+    }
+
+    /// Checks that the locked directions are independent at `y`.
+    pub fn check_locks(&self, y: &[f64]) -> Result<(), String> {
+        let locks = self.locks.borrow();
+        if locks.is_empty() {
+            return Ok(());
+        }
+        let motions: Vec<BodyMotion> = (0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
+        if independent(self.model, &locks, &motions, &self.theta_refs.borrow()) {
+            Ok(())
+        } else {
+            Err("the locked hinge directions are redundant (for example a closed loop of locked hinges): unlock one direction of the loop".into())
+        }
+    }
+
+    /// Whether any hinge direction is locked.
+    pub fn has_locks(&self) -> bool {
+        !self.locks.borrow().is_empty()
+    }
+
+    /// Projects `y` onto the locked directions' constraints (positions, then velocities)
+    /// if they have drifted (see [`crate::constraints::project`]), or always with `force`.
+    /// Returns whether `y` changed.
+    pub fn project(&self, y: &mut [f64], force: bool) -> bool {
+        let locks = self.locks.borrow();
+        if locks.is_empty() {
+            return false;
+        }
+        project(self.model, &locks, &self.theta_refs.borrow(), y, force)
     }
 
     /// Total number of event functions over all hinges.
@@ -264,7 +326,9 @@ impl<'m> Dynamics<'m> {
         let refs = self.theta_refs.borrow();
         let memories = self.memories.borrow();
         let mut scratch = self.scratch.borrow_mut();
-        let Scratch { motions, force_in_n, torque_in_n } = &mut *scratch;
+        let Scratch { motions, force_in_n, torque_in_n, kinematics, rows, accel, alpha, work } = &mut *scratch;
+        let locks = self.locks.borrow();
+        let keep = !locks.is_empty();
         for (i, m) in motions.iter_mut().enumerate() {
             *m = BodyMotion::from_state(y, i);
         }
@@ -283,21 +347,51 @@ impl<'m> Dynamics<'m> {
             torque_in_n[h.parent] += k.arm_parent_in_n.cross(&f_n) + tau_n;
             force_in_n[h.child] -= f_n;
             torque_in_n[h.child] -= k.arm_child_in_n.cross(&f_n) + tau_n;
+            if keep {
+                kinematics[i] = Some(k);
+            }
         }
 
+        if locks.is_empty() {
+            for (i, body) in model.bodies.iter().enumerate() {
+                let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+                let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+                let m = &motions[i];
+                let omega_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
+                d[POS..POS + 3].copy_from_slice(&s[VEL..VEL + 3]);
+                d[QUAT..QUAT + 4].copy_from_slice(&quat_rate(&s[QUAT..QUAT + 4], &omega_b));
+                let a = force_in_n[i] / body.mass;
+                d[VEL..VEL + 3].copy_from_slice(a.as_slice());
+                // Euler's equation in body components: I ω̇ = τ − ω × I ω.
+                let tau_b = m.dcm_n_b.transpose() * torque_in_n[i];
+                let i_omega = body.inertia_in_body * omega_b;
+                let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&i_omega));
+                d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
+            }
+            return;
+        }
+        // With locked directions: free accelerations in N components, then the constraint
+        // correction (crate::constraints).
+        let nb = model.bodies.len();
         for (i, body) in model.bodies.iter().enumerate() {
+            let m = &motions[i];
+            let omega_b = m.omega_in_body();
+            let tau_b = m.dcm_n_b.transpose() * torque_in_n[i];
+            let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&(body.inertia_in_body * omega_b)));
+            accel[i] = force_in_n[i] / body.mass;
+            alpha[i] = m.dcm_n_b * omega_dot;
+        }
+        rows_from(model, &locks, motions, |h| kinematics[h].expect("kept for locked hinges"), rows);
+        // A singular system (redundant locks) is refused when the run starts.
+        let _ = constrain_accelerations(model, rows, motions, accel, alpha, work);
+        for i in 0..nb {
             let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
             let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
-            let m = &motions[i];
             let omega_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
             d[POS..POS + 3].copy_from_slice(&s[VEL..VEL + 3]);
             d[QUAT..QUAT + 4].copy_from_slice(&quat_rate(&s[QUAT..QUAT + 4], &omega_b));
-            let a = force_in_n[i] / body.mass;
-            d[VEL..VEL + 3].copy_from_slice(a.as_slice());
-            // Euler's equation in body components: I ω̇ = τ − ω × I ω.
-            let tau_b = m.dcm_n_b.transpose() * torque_in_n[i];
-            let i_omega = body.inertia_in_body * omega_b;
-            let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&i_omega));
+            d[VEL..VEL + 3].copy_from_slice(accel[i].as_slice());
+            let omega_dot = motions[i].dcm_n_b.transpose() * alpha[i];
             d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
         }
     }

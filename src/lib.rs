@@ -14,6 +14,7 @@
 
 #![warn(missing_docs)]
 
+pub mod constraints;
 pub mod dynamics;
 pub mod init;
 pub mod law;

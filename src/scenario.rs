@@ -148,6 +148,7 @@ struct RawLaw {
 #[serde(deny_unknown_fields)]
 struct RawDirection {
     free: Option<bool>,
+    locked: Option<bool>,
     k: Option<f64>,
     table: Option<Spanned<RawTable>>,
     tape_spring: Option<Spanned<RawTapeSpring>>,
@@ -754,6 +755,18 @@ fn directional(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box<dy
         dirs.push(direction(ctx, hinge, name, i >= 3, d)?);
     }
     let directions: [Direction; 6] = dirs.try_into().expect("six directions");
+    if angles == Angles::RotationVector
+        && let Some(i) = (3..6).find(|&i| directions[i].response == Response::Locked)
+    {
+        let d = raw[i].as_ref().expect("checked above");
+        return Err(ctx.span(
+            d,
+            format!(
+                "hinge '{hinge}' law.{}: rotational directions are locked as 3-2-1 Euler angles; use angles = \"euler\" for a law with locked rotations",
+                DIRECTION_NAMES[i]
+            ),
+        ));
+    }
     Ok(Box::new(DirectionalLaw { angles, directions }))
 }
 
@@ -767,11 +780,20 @@ fn direction(
     let r = d.get_ref();
     let here = |m: String| ctx.span(d, format!("hinge '{hinge}' law.{name}: {m}"));
     let (unit, rate_unit) = if rotational { ("N·m/rad", "N·m·s/rad") } else { ("N/m", "N·s/m") };
-    let given = [r.free == Some(true), r.k.is_some(), r.table.is_some(), r.tape_spring.is_some()];
-    if given.iter().filter(|g| **g).count() != 1 || r.free == Some(false) {
+    let given =
+        [r.free == Some(true), r.locked == Some(true), r.k.is_some(), r.table.is_some(), r.tape_spring.is_some()];
+    if given.iter().filter(|g| **g).count() != 1 || r.free == Some(false) || r.locked == Some(false) {
         return Err(here(format!(
-            "give exactly one response: free = true, k = <stiffness in {unit}>, table = {{ … }} or tape_spring = {{ … }}"
+            "give exactly one response: free = true, locked = true, k = <stiffness in {unit}>, table = {{ … }} or tape_spring = {{ … }}"
         )));
+    }
+    if r.locked == Some(true) {
+        if r.stop.is_some() || r.damping.is_some() || r.rest.is_some() || r.rest_deg.is_some() {
+            return Err(here(
+                "a locked direction is held at its initial value: it takes no stop, damping or rest".into(),
+            ));
+        }
+        return Ok(Direction { response: Response::Locked, rest: 0.0, damping: 0.0, stop: None });
     }
     let angle = |rad: Option<f64>, deg: Option<f64>, key: &str| -> Result<Option<f64>, ScenarioError> {
         if !rotational && deg.is_some() {

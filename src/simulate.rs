@@ -345,7 +345,9 @@ impl StreamOut<'_, '_, '_, '_> {
             if let Some(p) = self.progress.as_mut() {
                 p(step.t);
             }
-            return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
+            let mut y = step.y.to_vec();
+            self.dynamics.project(&mut y, false);
+            return Ok(Control::Restart { t: step.t, y });
         }
         self.emit_until(step, step.t, step.y)?;
         self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
@@ -356,6 +358,12 @@ impl StreamOut<'_, '_, '_, '_> {
         self.t_reached = step.t;
         if let Some(p) = self.progress.as_mut() {
             p(step.t);
+        }
+        if self.dynamics.has_locks() && step.t > step.t_prev {
+            // Hold locked directions on their constraints (drift is at the tolerance level).
+            let mut y = step.y.to_vec();
+            self.dynamics.project(&mut y, false);
+            return Ok(Control::Restart { t: step.t, y });
         }
         Ok(Control::Continue)
     }
@@ -370,9 +378,12 @@ pub fn simulate(
     sink: &mut dyn Sink,
     progress: Option<&mut dyn FnMut(f64)>,
 ) -> Result<RunReport, SimError> {
-    let (y0, theta_refs) = initial_state(model, ic);
+    let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
     dynamics.initialize_memory(&y0);
+    dynamics.check_locks(&y0).map_err(SimError::Physics)?;
+    // Initial rates along locked directions are removed (positions hold by construction).
+    dynamics.project(&mut y0, true);
     let n_events = dynamics.event_count();
     let mut out = StreamOut {
         dynamics: &dynamics,

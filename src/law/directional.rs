@@ -78,6 +78,8 @@ pub enum Response {
     Table(Table),
     /// Hysteretic tape spring.
     TapeSpring(TapeSpring),
+    /// Held rigid at its initial value by a constraint (no force from the law).
+    Locked,
 }
 
 /// An end stop at `at`: a stiff damped spring that acts while the coordinate is beyond it,
@@ -124,7 +126,7 @@ impl Direction {
     fn evaluate(&self, q: f64, qd: f64, m: &DirectionMemory) -> (f64, f64, f64) {
         let u = q - self.rest;
         let (mut f, mut v, mut p) = match &self.response {
-            Response::Free => (0.0, 0.0, 0.0),
+            Response::Free | Response::Locked => (0.0, 0.0, 0.0),
             Response::Linear { k } => (k * u, 0.5 * k * u * u, 0.0),
             Response::Table(t) => (t.eval(u).0, t.integral(u), 0.0),
             Response::TapeSpring(ts) => {
@@ -354,6 +356,10 @@ impl HingeLaw for DirectionalLaw {
             }
             _ => (EventKind::Branch, String::new()),
         }
+    }
+
+    fn locked_directions(&self) -> [bool; 6] {
+        std::array::from_fn(|i| self.directions[i].response == Response::Locked)
     }
 
     fn sync_memory(&self, state: &HingeState, memory: &mut LawMemory) {

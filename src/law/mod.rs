@@ -157,6 +157,12 @@ pub trait HingeLaw: Debug + Send + Sync {
         (EventKind::Branch, String::new())
     }
 
+    /// Directions (x, y, z, rx, ry, rz) held rigid at their initial values by constraints
+    /// (see [`crate::constraints`]); rotational ones are 3-2-1 Euler angles.
+    fn locked_directions(&self) -> [bool; 6] {
+        [false; 6]
+    }
+
     /// Brings bookkeeping memory that does not change the response (such as which piece of
     /// a table the coordinate is in) up to date at an accepted state.
     fn sync_memory(&self, _state: &HingeState, _memory: &mut LawMemory) {}

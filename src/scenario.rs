@@ -4,7 +4,7 @@
 //! file, the line and column, and the key, and say what would be valid.
 
 use crate::init::{HingeInitial, InitialConditions, RelativeTwist};
-use crate::law::directional::{Angles, DIRECTION_NAMES, Direction, DirectionalLaw, Response, Stop, TapeSpring};
+use crate::law::directional::{Angles, DIRECTION_NAMES, Direction, DirectionalLaw, Response, Stop, Table2, TapeSpring};
 use crate::law::table::{Interpolation, Outside, Table};
 use crate::law::{EulerPotential, HingeLaw, LinearGains, PaperLinear, RotationVectorLinear};
 use crate::math::{Euler321, Mat3, Vec3};
@@ -151,6 +151,7 @@ struct RawDirection {
     locked: Option<bool>,
     k: Option<f64>,
     table: Option<Spanned<RawTable>>,
+    table2d: Option<Spanned<RawTable2>>,
     tape_spring: Option<Spanned<RawTapeSpring>>,
     rest: Option<f64>,
     rest_deg: Option<f64>,
@@ -163,6 +164,15 @@ struct RawDirection {
 struct RawTable {
     file: Option<String>,
     points: Option<Vec<[f64; 2]>>,
+    interpolation: Spanned<String>,
+    outside: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTable2 {
+    file: String,
+    other: Spanned<String>,
     interpolation: Spanned<String>,
     outside: Spanned<String>,
 }
@@ -780,11 +790,17 @@ fn direction(
     let r = d.get_ref();
     let here = |m: String| ctx.span(d, format!("hinge '{hinge}' law.{name}: {m}"));
     let (unit, rate_unit) = if rotational { ("N·m/rad", "N·m·s/rad") } else { ("N/m", "N·s/m") };
-    let given =
-        [r.free == Some(true), r.locked == Some(true), r.k.is_some(), r.table.is_some(), r.tape_spring.is_some()];
+    let given = [
+        r.free == Some(true),
+        r.locked == Some(true),
+        r.k.is_some(),
+        r.table.is_some(),
+        r.table2d.is_some(),
+        r.tape_spring.is_some(),
+    ];
     if given.iter().filter(|g| **g).count() != 1 || r.free == Some(false) || r.locked == Some(false) {
         return Err(here(format!(
-            "give exactly one response: free = true, locked = true, k = <stiffness in {unit}>, table = {{ … }} or tape_spring = {{ … }}"
+            "give exactly one response: free = true, locked = true, k = <stiffness in {unit}>, table = {{ … }}, table2d = {{ … }} or tape_spring = {{ … }}"
         )));
     }
     if r.locked == Some(true) {
@@ -810,6 +826,8 @@ fn direction(
         Response::Linear { k }
     } else if let Some(t) = &r.table {
         Response::Table(table(ctx, hinge, name, rotational, t)?)
+    } else if let Some(t) = &r.table2d {
+        Response::Table2(table2(ctx, hinge, name, rotational, t)?)
     } else if let Some(ts) = &r.tape_spring {
         let raw = ts.get_ref();
         let k0 = *raw.transition_stiffness.get_ref();
@@ -888,6 +906,82 @@ fn direction(
     Ok(Direction { response, rest, damping, stop })
 }
 
+fn interpolation_and_outside(
+    ctx: &Ctx<'_>,
+    hinge: &str,
+    name: &str,
+    interpolation: &Spanned<String>,
+    outside: &Spanned<String>,
+) -> Result<(Interpolation, Outside), ScenarioError> {
+    let i = match interpolation.get_ref().as_str() {
+        "linear" => Interpolation::Linear,
+        "pchip" => Interpolation::Pchip,
+        other => {
+            return Err(ctx.span(
+                interpolation,
+                format!("hinge '{hinge}' law.{name}: interpolation '{other}' must be \"linear\" or \"pchip\" (monotone C¹ cubic)"),
+            ));
+        }
+    };
+    let o = match outside.get_ref().as_str() {
+        "error" => Outside::Error,
+        "clamp" => Outside::Clamp,
+        "extend" => Outside::Extend,
+        other => {
+            return Err(ctx.span(
+                outside,
+                format!("hinge '{hinge}' law.{name}: outside '{other}' must be \"error\", \"clamp\" or \"extend\""),
+            ));
+        }
+    };
+    Ok((i, o))
+}
+
+fn table2(
+    ctx: &Ctx<'_>,
+    hinge: &str,
+    name: &str,
+    rotational: bool,
+    t: &Spanned<RawTable2>,
+) -> Result<Table2, ScenarioError> {
+    let r = t.get_ref();
+    let here = |m: String| ctx.span(t, format!("hinge '{hinge}' law.{name} table2d: {m}"));
+    let (interpolation, outside) = interpolation_and_outside(ctx, hinge, name, &r.interpolation, &r.outside)?;
+    let Some(other) = DIRECTION_NAMES.iter().position(|d| *d == r.other.get_ref().as_str()) else {
+        return Err(ctx.span(
+            &r.other,
+            format!(
+                "hinge '{hinge}' law.{name}.table2d.other '{}' must be one of x, y, z, rx, ry, rz",
+                r.other.get_ref()
+            ),
+        ));
+    };
+    if DIRECTION_NAMES[other] == name {
+        return Err(ctx.span(&r.other, format!("hinge '{hinge}' law.{name}.table2d.other must be another direction")));
+    }
+    let path = ctx.base.join(&r.file);
+    let grid = Table::read_grid_csv(&path).map_err(&here)?;
+    if grid.u_angle != rotational || grid.v_angle != (other >= 3) {
+        return Err(here(format!(
+            "{}: the first column must be {} (direction {name}) and the second {} (direction {})",
+            path.display(),
+            if rotational { "an angle" } else { "a displacement" },
+            if other >= 3 { "an angle" } else { "a displacement" },
+            DIRECTION_NAMES[other]
+        )));
+    }
+    let lines = grid
+        .values
+        .iter()
+        .map(|vals| {
+            let pts: Vec<(f64, f64)> = grid.u.iter().copied().zip(vals.iter().copied()).collect();
+            Table::new(&pts, interpolation, outside)
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(&here)?;
+    Ok(Table2 { other, v: grid.v, lines, outside })
+}
+
 fn table(
     ctx: &Ctx<'_>,
     hinge: &str,
@@ -897,27 +991,7 @@ fn table(
 ) -> Result<Table, ScenarioError> {
     let r = t.get_ref();
     let here = |m: String| ctx.span(t, format!("hinge '{hinge}' law.{name} table: {m}"));
-    let interpolation = match r.interpolation.get_ref().as_str() {
-        "linear" => Interpolation::Linear,
-        "pchip" => Interpolation::Pchip,
-        other => {
-            return Err(ctx.span(
-                &r.interpolation,
-                format!("hinge '{hinge}' law.{name}: interpolation '{other}' must be \"linear\" or \"pchip\" (monotone C¹ cubic)"),
-            ));
-        }
-    };
-    let outside = match r.outside.get_ref().as_str() {
-        "error" => Outside::Error,
-        "clamp" => Outside::Clamp,
-        "extend" => Outside::Extend,
-        other => {
-            return Err(ctx.span(
-                &r.outside,
-                format!("hinge '{hinge}' law.{name}: outside '{other}' must be \"error\", \"clamp\" or \"extend\""),
-            ));
-        }
-    };
+    let (interpolation, outside) = interpolation_and_outside(ctx, hinge, name, &r.interpolation, &r.outside)?;
     let points = match (&r.file, &r.points) {
         (Some(file), None) => {
             let path = ctx.base.join(file);

@@ -80,6 +80,56 @@ pub enum Response {
     TapeSpring(TapeSpring),
     /// Held rigid at its initial value by a constraint (no force from the law).
     Locked,
+    /// `f = table(u, v)`: coupled to a second direction's coordinate `v` (e.g. fold moment
+    /// against fold angle and twist).
+    Table2(Table2),
+}
+
+/// A response tabulated against this direction's coordinate `u` and another's, `v`: one 1-D
+/// table in u per grid value of v, interpolated linearly in v.
+///
+/// Its energy is `V(u, v) = ∫₀ᵘ f(s, v) ds`; unless f does not depend on v, the force is not
+/// the gradient of a potential (the other direction feels no `∂V/∂v`), so the law reports the
+/// power `−(∂V/∂v) v̇` as dissipation, of either sign, and `E + D` stays constant.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table2 {
+    /// Index (0..6) of the direction whose coordinate is v.
+    pub other: usize,
+    /// Grid values of v (minus that direction's rest value), increasing.
+    pub v: Vec<f64>,
+    /// One table in u per grid value of v.
+    pub lines: Vec<Table>,
+    /// Outside the v grid: `Clamp` holds the end line, `Extend` continues linearly, `Error`
+    /// stops the run at an accepted state beyond it.
+    pub outside: Outside,
+}
+
+impl Table2 {
+    /// Interval index and weight β of v (f = (1 − β) line_j + β line_{j+1}), and whether v
+    /// is beyond the grid with the clamp policy (then β is held at the end and V does not
+    /// change with v).
+    fn locate(&self, v: f64) -> (usize, f64, bool) {
+        let n = self.v.len();
+        let j = match self.v.binary_search_by(|x| x.total_cmp(&v)) {
+            Ok(i) => i.min(n - 2),
+            Err(i) => i.saturating_sub(1).min(n - 2),
+        };
+        let beta = (v - self.v[j]) / (self.v[j + 1] - self.v[j]);
+        match self.outside {
+            Outside::Clamp if !(0.0..=1.0).contains(&beta) => (j, beta.clamp(0.0, 1.0), true),
+            _ => (j, beta, false),
+        }
+    }
+
+    /// Force, energy `V(u, v)` and `∂V/∂v`.
+    fn eval(&self, u: f64, v: f64) -> (f64, f64, f64) {
+        let (j, beta, held) = self.locate(v);
+        let (a, b) = (&self.lines[j], &self.lines[j + 1]);
+        let f = (1.0 - beta) * a.eval(u).0 + beta * b.eval(u).0;
+        let (va, vb) = (a.integral(u), b.integral(u));
+        let dv = if held { 0.0 } else { (vb - va) / (self.v[j + 1] - self.v[j]) };
+        (f, (1.0 - beta) * va + beta * vb, dv)
+    }
 }
 
 /// An end stop at `at`: a stiff damped spring that acts while the coordinate is beyond it,
@@ -122,11 +172,16 @@ impl Direction {
         Self { response: Response::Linear { k }, rest: 0.0, damping: 0.0, stop: None }
     }
 
-    /// Restoring force, stored energy and dissipation power at coordinate q, rate qd.
-    fn evaluate(&self, q: f64, qd: f64, m: &DirectionMemory) -> (f64, f64, f64) {
+    /// Restoring force, stored energy and dissipation power at coordinate q, rate qd;
+    /// `other` is the (coordinate − rest, rate) of a coupled direction, if any.
+    fn evaluate(&self, q: f64, qd: f64, m: &DirectionMemory, other: (f64, f64)) -> (f64, f64, f64) {
         let u = q - self.rest;
         let (mut f, mut v, mut p) = match &self.response {
             Response::Free | Response::Locked => (0.0, 0.0, 0.0),
+            Response::Table2(t) => {
+                let (f, v, dv) = t.eval(u, other.0);
+                (f, v, -dv * other.1)
+            }
             Response::Linear { k } => (k * u, 0.5 * k * u * u, 0.0),
             Response::Table(t) => (t.eval(u).0, t.integral(u), 0.0),
             Response::TapeSpring(ts) => {
@@ -158,7 +213,7 @@ impl Direction {
 
     fn conservative(&self) -> bool {
         self.damping == 0.0
-            && !matches!(self.response, Response::TapeSpring(_))
+            && !matches!(self.response, Response::TapeSpring(_) | Response::Table2(_))
             && self.stop.is_none_or(|s| s.damping == 0.0)
     }
 
@@ -204,15 +259,22 @@ impl DirectionalLaw {
     fn any_events(&self) -> bool {
         self.directions.iter().any(Direction::has_events)
     }
+
+    /// Direction i's force, energy and dissipation power.
+    fn evaluate(&self, i: usize, q: &[f64; 6], qd: &[f64; 6], memory: &LawMemory) -> (f64, f64, f64) {
+        let d = &self.directions[i];
+        let other = match &d.response {
+            Response::Table2(t) => (q[t.other] - self.directions[t.other].rest, qd[t.other]),
+            _ => (0.0, 0.0),
+        };
+        d.evaluate(q[i], qd[i], &memory.directions[i], other)
+    }
 }
 
 impl HingeLaw for DirectionalLaw {
     fn wrench(&self, state: &HingeState, memory: &LawMemory) -> HingeWrench {
         let (q, qd, j_inv) = self.coordinates(state);
-        let mut f = [0.0; 6];
-        for i in 0..6 {
-            f[i] = self.directions[i].evaluate(q[i], qd[i], &memory.directions[i]).0;
-        }
+        let f: [f64; 6] = std::array::from_fn(|i| self.evaluate(i, &q, &qd, memory).0);
         let g_rot = Vec3::new(f[3], f[4], f[5]);
         let torque_in_a = match j_inv {
             None => state.theta.torque_from_generalized(&Vec3::new(f[5], f[4], f[3])),
@@ -223,12 +285,12 @@ impl HingeLaw for DirectionalLaw {
 
     fn stored_energy(&self, state: &HingeState, memory: &LawMemory) -> f64 {
         let (q, qd, _) = self.coordinates(state);
-        (0..6).map(|i| self.directions[i].evaluate(q[i], qd[i], &memory.directions[i]).1).sum()
+        (0..6).map(|i| self.evaluate(i, &q, &qd, memory).1).sum()
     }
 
     fn dissipation_power(&self, state: &HingeState, memory: &LawMemory) -> f64 {
         let (q, qd, _) = self.coordinates(state);
-        (0..6).map(|i| self.directions[i].evaluate(q[i], qd[i], &memory.directions[i]).2).sum()
+        (0..6).map(|i| self.evaluate(i, &q, &qd, memory).2).sum()
     }
 
     fn conserves_energy(&self) -> bool {
@@ -378,9 +440,20 @@ impl HingeLaw for DirectionalLaw {
         let (q, _, _) = self.coordinates(state);
         for (i, d) in self.directions.iter().enumerate() {
             let u = q[i] - d.rest;
+            if let Response::Table2(t2) = &d.response {
+                let v = q[t2.other] - self.directions[t2.other].rest;
+                let (a, b) = (t2.v[0], t2.v[t2.v.len() - 1]);
+                if t2.outside == Outside::Error && !(a..=b).contains(&v) {
+                    return Err(format!(
+                        "direction {}: coupled coordinate {} − rest = {v:.6} is outside the table's range [{a}, {b}] (outside = \"error\")",
+                        DIRECTION_NAMES[i], DIRECTION_NAMES[t2.other]
+                    ));
+                }
+            }
             let tables: Vec<&Table> = match &d.response {
                 Response::Table(t) => vec![t],
                 Response::TapeSpring(ts) => vec![&ts.increasing, &ts.decreasing],
+                Response::Table2(t2) => t2.lines.iter().collect(),
                 _ => vec![],
             };
             for t in tables {
@@ -429,6 +502,25 @@ mod tests {
                 Table::new(&[(-1.0, -5.0), (0.0, 0.0), (1.0, 3.0)], Interpolation::Linear, Outside::Clamp).unwrap(),
             ),
             rest: 0.0,
+            damping: 0.0,
+            stop: None,
+        };
+        let line = |scale: f64| {
+            Table::new(
+                &[(-2.0, -3.0 * scale), (0.0, 0.0), (0.5, 1.0 * scale), (2.0, 2.5 * scale)],
+                Interpolation::Pchip,
+                Outside::Extend,
+            )
+            .unwrap()
+        };
+        dirs[4] = Direction {
+            response: Response::Table2(Table2 {
+                other: 3,
+                v: vec![-1.0, 0.0, 0.7],
+                lines: vec![line(0.5), line(1.0), line(2.0)],
+                outside: Outside::Extend,
+            }),
+            rest: 0.05,
             damping: 0.0,
             stop: None,
         };

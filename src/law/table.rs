@@ -299,6 +299,96 @@ impl Table {
     }
 }
 
+/// Points of a 2-D table read from a long-format CSV: `(u, v, value)` per grid point.
+pub struct GridPoints {
+    /// Distinct u values, increasing, SI.
+    pub u: Vec<f64>,
+    /// Distinct v values, increasing, SI.
+    pub v: Vec<f64>,
+    /// `values[j][i]` at `(u[i], v[j])`.
+    pub values: Vec<Vec<f64>>,
+    /// Whether u is an angle.
+    pub u_angle: bool,
+    /// Whether v is an angle.
+    pub v_angle: bool,
+}
+
+/// Unit scale and angle-ness of a coordinate column name (with an optional prefix).
+fn coordinate_unit(name: &str, prefix: &str) -> Option<(f64, bool)> {
+    match name.strip_prefix(prefix)? {
+        "displacement_m" => Some((1.0, false)),
+        "angle_rad" => Some((1.0, true)),
+        "angle_deg" => Some((std::f64::consts::PI / 180.0, true)),
+        _ => None,
+    }
+}
+
+impl Table {
+    /// Reads a 2-D table in long format: a header `<u>,other_<v>,<value>` with `<u>` and
+    /// `<v>` each `displacement_m`, `angle_rad` or `angle_deg` and `<value>` `force_N` or
+    /// `moment_Nm` (matching u), then one row per grid point; every (u, v) pair of the grid
+    /// must appear exactly once. Lines starting with `#` are comments.
+    pub fn read_grid_csv(path: &Path) -> Result<GridPoints, String> {
+        let p = path.display();
+        let mut reader = csv::ReaderBuilder::new()
+            .comment(Some(b'#'))
+            .trim(csv::Trim::All)
+            .from_path(path)
+            .map_err(|e| format!("cannot read {p}: {e}"))?;
+        let h = reader.headers().map_err(|e| format!("{p}: {e}"))?.clone();
+        let help = "the header must be <u>,other_<v>,<value>, e.g. angle_deg,other_angle_deg,moment_Nm";
+        if h.len() != 3 {
+            return Err(format!("{p}: {help}"));
+        }
+        let (su, u_angle) =
+            coordinate_unit(&h[0], "").ok_or_else(|| format!("{p}: first column '{}': {help}", &h[0]))?;
+        let (sv, v_angle) =
+            coordinate_unit(&h[1], "other_").ok_or_else(|| format!("{p}: second column '{}': {help}", &h[1]))?;
+        match (&h[2], u_angle) {
+            ("moment_Nm", true) | ("force_N", false) => {}
+            (other, _) => {
+                return Err(format!(
+                    "{p}: third column '{other}' must be {}",
+                    if u_angle { "moment_Nm" } else { "force_N" }
+                ));
+            }
+        }
+        let mut rows = Vec::new();
+        for (k, rec) in reader.records().enumerate() {
+            let rec = rec.map_err(|e| format!("{p}: {e}"))?;
+            let line = rec.position().map_or(k + 2, |q| q.line() as usize);
+            let num = |i: usize| {
+                rec.get(i).and_then(|x| x.parse::<f64>().ok()).ok_or_else(|| format!("{p}:{line}: expected 3 numbers"))
+            };
+            rows.push((num(0)? * su, num(1)? * sv, num(2)?, line));
+        }
+        let mut u: Vec<f64> = rows.iter().map(|r| r.0).collect();
+        let mut v: Vec<f64> = rows.iter().map(|r| r.1).collect();
+        for x in [&mut u, &mut v] {
+            x.sort_by(f64::total_cmp);
+            x.dedup();
+        }
+        if u.len() < 2 || v.len() < 2 {
+            return Err(format!("{p}: a 2-D table needs at least 2 values of each coordinate"));
+        }
+        let mut values = vec![vec![f64::NAN; u.len()]; v.len()];
+        for (a, b, f, line) in rows {
+            let i = u.iter().position(|x| *x == a).expect("collected");
+            let j = v.iter().position(|x| *x == b).expect("collected");
+            if !values[j][i].is_nan() {
+                return Err(format!("{p}:{line}: the point ({a}, {b}) appears twice"));
+            }
+            values[j][i] = f;
+        }
+        if let Some((j, i)) =
+            (0..v.len()).flat_map(|j| (0..u.len()).map(move |i| (j, i))).find(|&(j, i)| values[j][i].is_nan())
+        {
+            return Err(format!("{p}: the grid is incomplete: no value at ({}, {}) (SI units)", u[i], v[j]));
+        }
+        Ok(GridPoints { u, v, values, u_angle, v_angle })
+    }
+}
+
 /// Fritsch–Carlson monotone slopes for PCHIP (as in SciPy's `PchipInterpolator`).
 fn pchip_slopes(x: &[f64], secant: &[f64]) -> Vec<f64> {
     let n = x.len();

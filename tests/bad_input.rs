@@ -258,3 +258,83 @@ law = { type = "paper-linear", k_f = 100.0, k_theta = 10.0 }
     let e = Scenario::from_toml(&with_initial, "loop.toml").unwrap_err().to_string();
     assert!(e.contains("h3") && e.contains("assembled"), "{e}");
 }
+
+/// Bad directional laws and tables: located errors naming the hinge and direction.
+#[test]
+fn bad_directional_laws() {
+    let law = "law = { type = \"paper-linear\", k_f = 100.0, k_theta = 10.0 }";
+    let directional = |dirs: &str| format!("law = {{ type = \"directional\", angles = \"euler\", {dirs} }}");
+    let six = "x = { k = 1.0 }, y = { k = 1.0 }, z = { k = 1.0 }, rx = { k = 1.0 }, ry = { k = 1.0 }, rz = { k = 1.0 }";
+    let with = |d: String| move |t: &str| t.replacen(law, &d, 1);
+    expect_error(
+        with(directional(&six.replace(", rz = { k = 1.0 }", ""))),
+        Some("directional"),
+        &["h1", "rz", "missing"],
+    );
+    expect_error(
+        with(directional(&six.replace("rz = { k = 1.0 }", "rz = { k = 1.0, free = true }"))),
+        Some("directional"),
+        &["rz", "exactly one"],
+    );
+    expect_error(
+        with(directional(&six.replace("rz = { k = 1.0 }", "rz = { k = 1.0, rest_degrees = 3.0 }"))),
+        Some("directional"),
+        &["rest_degrees"],
+    );
+    expect_error(
+        with(directional(&six.replace("x = { k = 1.0 }", "x = { k = 1.0, rest_deg = 3.0 }"))),
+        Some("directional"),
+        &["x", "rest_deg", "rotational"],
+    );
+    expect_error(
+        with(directional(&six.replace(
+            "rz = { k = 1.0 }",
+            "rz = { table = { file = \"no-such.csv\", interpolation = \"linear\", outside = \"clamp\" } }",
+        ))),
+        Some("directional"),
+        &["rz", "no-such.csv"],
+    );
+    expect_error(
+        with(directional(&six.replace(
+            "rz = { k = 1.0 }",
+            "rz = { table = { points = [[0.0, 1.0], [0.0, 2.0]], interpolation = \"linear\", outside = \"clamp\" } }",
+        ))),
+        Some("directional"),
+        &["rz", "increase strictly"],
+    );
+    expect_error(
+        with(directional(&six.replace(
+            "rz = { k = 1.0 }",
+            "rz = { table = { points = [[0.0, 1.0], [1.0, 2.0]], interpolation = \"cubic\", outside = \"clamp\" } }",
+        ))),
+        Some("cubic"),
+        &["cubic", "pchip"],
+    );
+    expect_error(
+        with(directional(&six.replace("rz = { k = 1.0 }", "rz = { tape_spring = { increasing = { points = [[-1.0, -1.0], [1.0, 1.0]], interpolation = \"linear\", outside = \"extend\" }, decreasing = { points = [[-1.0, -2.0], [1.0, 2.0]], interpolation = \"linear\", outside = \"extend\" }, transition_stiffness = 10.0 } }"))),
+        Some("directional"),
+        &["rz", "below the decreasing"],
+    );
+    expect_error(
+        with(directional(&six.replace(
+            "rz = { k = 1.0 }",
+            "rz = { k = 1.0, stop = { at_deg = 0.0, free = \"up\", stiffness = 1.0, damping = 0.0 } }",
+        ))),
+        Some("free = \"up\""),
+        &["above", "below"],
+    );
+    expect_error(
+        with(format!(
+            "law = {{ type = \"directional\", angles = \"rotation-vector\", {} }}",
+            six.replace("rx = { k = 1.0 }", "rx = { locked = true }")
+        )),
+        Some("directional"),
+        &["rx", "euler"],
+    );
+    expect_error(with(directional(six).replace("angles = \"euler\", ", "")), Some("directional"), &["angles"]);
+    expect_error(
+        with(format!("law = {{ type = \"paper-linear\", k_f = 1.0, k_theta = 1.0, rz = {{ k = 1.0 }} }}")),
+        Some("rz = {"),
+        &["rz", "directional"],
+    );
+}

@@ -333,7 +333,7 @@ fn bad_directional_laws() {
     );
     expect_error(with(directional(six).replace("angles = \"euler\", ", "")), Some("directional"), &["angles"]);
     expect_error(
-        with(format!("law = {{ type = \"paper-linear\", k_f = 1.0, k_theta = 1.0, rz = {{ k = 1.0 }} }}")),
+        with("law = { type = \"paper-linear\", k_f = 1.0, k_theta = 1.0, rz = { k = 1.0 } }".to_string()),
         Some("rz = {"),
         &["rz", "directional"],
     );

@@ -79,20 +79,22 @@ pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler
             .get_or_insert_with(|| hinge_kinematics(h, &motions[h.parent], &motions[h.child], &refs[lock.hinge]));
     }
     let mut out = Vec::with_capacity(locks.len());
-    rows_from(model, locks, motions, |h| kin[h].expect("computed above"), &mut out);
+    rows_from(model, locks, motions, |h| kin[h].as_ref().expect("computed above"), &mut out);
     out
 }
 
 /// Constraint rows from the hinges' kinematics (`kinematics(h)` for hinge h), into `out`.
-pub fn rows_from(
+pub fn rows_from<'k>(
     model: &Model,
     locks: &[Lock],
     motions: &[BodyMotion],
-    kinematics: impl Fn(usize) -> HingeKinematics,
+    kinematics: impl Fn(usize) -> &'k HingeKinematics,
     out: &mut Vec<Row>,
 ) {
     out.clear();
-    out.extend(locks.iter().map(|lock| {
+    // Per hinge, the Euler-rate data shared by its rotational locks (computed once).
+    let mut euler_cache: Option<(usize, [Vec3; 3], Vec3, Vec3)> = None;
+    for lock in locks {
         let h = &model.hinges[lock.hinge];
         let (p, c) = (&motions[h.parent], &motions[h.child]);
         let k = kinematics(lock.hinge);
@@ -128,8 +130,15 @@ pub fn rows_from(
             let j = euler_index(lock.direction);
             let theta = k.state.theta;
             let w_rel = k.state.omega_rel_in_a;
-            let theta_rate = theta.rates_from_omega(&w_rel);
-            let (b_inv, b_dot_rate) = euler_rows(&theta, &theta_rate);
+            let (b_inv, b_dot_rate, theta_rate) = match euler_cache {
+                Some((hinge, b, bd, tr)) if hinge == lock.hinge => (b, bd, tr),
+                _ => {
+                    let tr = theta.rates_from_omega(&w_rel);
+                    let (b, bd) = euler_rows(&theta, &tr);
+                    euler_cache = Some((lock.hinge, b, bd, tr));
+                    (b, bd, tr)
+                }
+            };
             let n = k.dcm_n_a * b_inv[j];
             row.ang_c = n;
             row.ang_p = -n;
@@ -138,8 +147,8 @@ pub fn rows_from(
             row.error = theta.as_vector()[j] - lock.target;
             row.rate = theta_rate[j];
         }
-        row
-    }));
+        out.push(row);
+    }
 }
 
 /// `J M⁻¹ Jᵀ` for the rows (dense).

@@ -381,7 +381,7 @@ impl<'m> Dynamics<'m> {
             accel[i] = force_in_n[i] / body.mass;
             alpha[i] = m.dcm_n_b * omega_dot;
         }
-        rows_from(model, &locks, motions, |h| kinematics[h].expect("kept for locked hinges"), rows);
+        rows_from(model, &locks, motions, |h| kinematics[h].as_ref().expect("kept for locked hinges"), rows);
         // A singular system (redundant locks) is refused when the run starts.
         let _ = constrain_accelerations(model, rows, motions, accel, alpha, work);
         for i in 0..nb {

@@ -49,7 +49,7 @@ pub struct Row {
 }
 
 /// Euler-angle index (in (yaw, pitch, roll)) of rotational direction 3, 4, 5.
-fn euler_index(direction: usize) -> usize {
+pub(crate) fn euler_index(direction: usize) -> usize {
     match direction {
         3 => 2, // rx = roll θ3
         4 => 1, // ry = pitch θ2

@@ -6,7 +6,7 @@
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
 
-use crate::constraints::{Lock, Row, Workspace, constrain_accelerations, independent, project, rows_from};
+use crate::constraints::{Lock, Row, Workspace, constrain_accelerations, euler_index, independent, project, rows_from};
 use crate::law::{EventKind, HingeState, HingeWrench, LawMemory};
 use crate::math::{Euler321, Mat3, Vec3, quat_rate};
 use crate::model::{Hinge, Model};
@@ -192,15 +192,7 @@ impl<'m> Dynamics<'m> {
             let law = &self.model.hinges[i].law;
             mem[i] = law.initial_memory(&k.state);
             for (d, _) in law.locked_directions().iter().enumerate().filter(|(_, l)| **l) {
-                let target = if d < 3 {
-                    k.state.delta_in_a0[d]
-                } else {
-                    k.state.theta.as_vector()[match d {
-                        3 => 2,
-                        4 => 1,
-                        _ => 0,
-                    }]
-                };
+                let target = if d < 3 { k.state.delta_in_a0[d] } else { k.state.theta.as_vector()[euler_index(d)] };
                 locks.push(Lock { hinge: i, direction: d, target });
             }
         });

@@ -1,42 +1,19 @@
-//! Cost of one right-hand-side evaluation against structure size: a straight chain of N
-//! panels on six-direction hinges (law 2), N = 1 … 4096. Prints ns per hinge per evaluation
-//! and the machine's load average, since these machines are shared.
+//! Cost of the equations of motion against structure size, on the generated structures of
+//! `foldsim::generate` (a z-folded chain, and a grid whose hinges mostly close loops), law 2
+//! with stiff off-axis hinges:
+//! - one right-hand-side evaluation, per hinge, for N = 1 … 4096 panels;
+//! - wall time per simulated second with the explicit DOP853 path at rtol = atol = 1e-8, for
+//!   the smaller sizes (the explicit step is limited by the stiff directions).
 //!
-//! Run: `cargo bench --bench rhs`.
+//! Prints the machine's load average beside the figures, since these machines are shared.
+//! Run: `cargo bench --bench rhs` (add `-- --quick` for a short pass).
 
 use foldsim::dynamics::Dynamics;
-use foldsim::init::{InitialConditions, initial_state};
-use foldsim::law::{EulerPotential, LinearGains};
-use foldsim::math::{Mat3, Vec3};
-use foldsim::model::{Body, HingeSpec, Model, ParentFrame};
+use foldsim::generate::{Params, grid, zfold};
+use foldsim::init::initial_state;
+use foldsim::scenario::Scenario;
+use foldsim::simulate::simulate;
 use std::time::Instant;
-
-fn chain(n: usize) -> Model {
-    let mut bodies = vec![Body::new("hub", 100.0, Mat3::from_diagonal(&Vec3::new(50.0, 50.0, 50.0))).unwrap()];
-    let mut hinges = Vec::new();
-    for i in 1..=n {
-        bodies.push(Body::new(&format!("p{i}"), 2.0, Mat3::from_diagonal(&Vec3::new(0.2, 0.2, 0.35))).unwrap());
-        let gains = LinearGains {
-            k_f: Mat3::identity() * 1e6,
-            k_theta: Mat3::from_diagonal(&Vec3::new(1e3, 1e3, 1.0)),
-            c_f: Mat3::zeros(),
-            c_theta: Mat3::zeros(),
-        };
-        hinges.push(HingeSpec {
-            name: format!("h{i}"),
-            parent: i - 1,
-            child: i,
-            parent_frame: ParentFrame::Given {
-                r_a0_in_parent: Vec3::new(if i == 1 { 1.0 } else { 0.5 }, 0.0, 0.0),
-                dcm_a0_parent: Mat3::identity(),
-            },
-            r_child_in_a: Vec3::new(0.5, 0.0, 0.0),
-            dcm_child_a: Mat3::identity(),
-            law: Box::new(EulerPotential { gains }),
-        });
-    }
-    Model::new(bodies, hinges, &[]).unwrap()
-}
 
 fn load() -> String {
     std::fs::read_to_string("/proc/loadavg")
@@ -44,33 +21,73 @@ fn load() -> String {
         .unwrap_or_default()
 }
 
+fn structure(kind: &str, n: usize, p: &Params) -> Scenario {
+    let text = match kind {
+        "chain" => zfold(n, p),
+        _ => {
+            // The most nearly square grid with n panels.
+            let rows = (1..=(n as f64).sqrt() as usize).rev().find(|r| n % r == 0).unwrap_or(1).max(2);
+            let cols = (n / rows).max(2);
+            grid(rows, cols, p)
+        }
+    };
+    Scenario::from_toml(&text, kind).expect("generated scenarios are valid")
+}
+
 fn main() {
-    // `cargo test --benches` runs benches with --bench absent; keep that quick.
-    let quick = !std::env::args().any(|a| a == "--bench");
-    println!("right-hand-side cost, straight chain, law 2 (load average {})", load());
-    println!("{:>6} {:>10} {:>14} {:>14}", "panels", "evals", "µs/eval", "ns/hinge");
-    for n in [1usize, 4, 16, 64, 256, 1024, 4096] {
-        let model = chain(n);
-        let ic = InitialConditions { hinges: vec![None; n], body_attitudes: vec![None; n + 1], ..Default::default() };
-        let (mut y, refs) = initial_state(&model, &ic);
-        // A deformed state, so every law term is live.
-        for (i, v) in y.iter_mut().enumerate() {
-            *v += 1e-3 * ((i * 7919) % 13) as f64;
-        }
-        let dynamics = Dynamics::new(&model, refs);
-        let mut dydt = vec![0.0; y.len()];
-        let budget = if quick { 0.01 } else { 0.5 };
-        let mut evals = 0u64;
-        let start = Instant::now();
-        while start.elapsed().as_secs_f64() < budget {
-            for _ in 0..16 {
-                dynamics.rhs(&y, &mut dydt);
+    let quick = std::env::args().any(|a| a == "--quick") || !std::env::args().any(|a| a == "--bench");
+    let p = Params { duration: 0.2, ..Params::default() };
+    println!("foldsim bench (load average {})", load());
+    println!("\nright-hand-side evaluation, law 2, k_translation 1e6 N/m, k_bending 1e3 N·m/rad, k_fold 1 N·m/rad");
+    println!("{:>6} {:>6} {:>7} {:>6} {:>12} {:>12}", "shape", "panels", "hinges", "loops", "µs/eval", "ns/hinge");
+    for kind in ["chain", "grid"] {
+        for n in [1usize, 4, 16, 64, 256, 1024, 4096] {
+            if kind == "grid" && n < 4 {
+                continue;
             }
-            evals += 16;
+            let s = structure(kind, n, &p);
+            let model = &s.model;
+            let (mut y, refs) = initial_state(model, &s.initial);
+            for (i, v) in y.iter_mut().enumerate() {
+                *v += 1e-4 * ((i * 7919) % 13) as f64; // a deformed state, every term live
+            }
+            let dynamics = Dynamics::new(model, refs);
+            dynamics.initialize_memory(&y);
+            let mut dydt = vec![0.0; y.len()];
+            let budget = if quick { 0.02 } else { 0.5 };
+            let (mut evals, start) = (0u64, Instant::now());
+            while start.elapsed().as_secs_f64() < budget {
+                for _ in 0..8 {
+                    dynamics.rhs(&y, &mut dydt);
+                }
+                evals += 8;
+            }
+            let per = start.elapsed().as_secs_f64() / evals as f64;
+            let hinges = model.hinges.len();
+            let loops = model.is_tree_hinge.iter().filter(|t| !**t).count();
+            println!(
+                "{kind:>6} {:>6} {hinges:>7} {loops:>6} {:>12.3} {:>12.1}",
+                model.bodies.len() - 1,
+                per * 1e6,
+                per * 1e9 / hinges as f64
+            );
+            std::hint::black_box(&dydt);
         }
-        let per_eval = start.elapsed().as_secs_f64() / evals as f64;
-        println!("{:>6} {:>10} {:>14.3} {:>14.1}", n, evals, per_eval * 1e6, per_eval * 1e9 / n as f64);
-        std::hint::black_box(&dydt);
     }
-    println!("load average after: {}", load());
+    println!("\nexplicit DOP853, rtol = atol = 1e-8, {} s simulated", p.duration);
+    println!("{:>6} {:>6} {:>10} {:>10} {:>14}", "shape", "panels", "steps", "rhs evals", "wall s / sim s");
+    for kind in ["chain", "grid"] {
+        for n in [4usize, 16, 64] {
+            let s = structure(kind, n, &p);
+            let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
+            let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
+            println!(
+                "{kind:>6} {n:>6} {:>10} {:>10} {:>14.4}",
+                r.steps_accepted,
+                r.rhs_evaluations,
+                r.wall_seconds / s.settings.duration
+            );
+        }
+    }
+    println!("\nload average after: {}", load());
 }

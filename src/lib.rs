@@ -16,6 +16,7 @@
 
 pub mod constraints;
 pub mod dynamics;
+pub mod generate;
 pub mod init;
 pub mod law;
 pub mod math;

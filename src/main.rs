@@ -35,6 +35,35 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Write a generated structure as a scenario file.
+    Generate {
+        #[command(subcommand)]
+        shape: Shape,
+        /// Panel mass, kg.
+        #[arg(long, default_value_t = 2.0, global = true)]
+        panel_mass: f64,
+        /// Hinge translational stiffness, N/m.
+        #[arg(long, default_value_t = 1e6, global = true)]
+        k_translation: f64,
+        /// Hinge stiffness of the two non-fold rotations, N·m/rad.
+        #[arg(long, default_value_t = 1e3, global = true)]
+        k_bending: f64,
+        /// Hinge fold stiffness, N·m/rad.
+        #[arg(long, default_value_t = 1.0, global = true)]
+        k_fold: f64,
+        /// Stowed fold angle (z-fold) or initial hub-hinge fold (grid), degrees.
+        #[arg(long, default_value_t = 30.0, global = true)]
+        fold_deg: f64,
+        /// Simulated time, s.
+        #[arg(long, default_value_t = 10.0, global = true)]
+        duration: f64,
+        /// Integrator tolerance (rtol = atol).
+        #[arg(long, default_value_t = 1e-8, global = true)]
+        tolerance: f64,
+        /// Scenario file to write.
+        #[arg(long, short, global = true)]
+        output: Option<PathBuf>,
+    },
     /// Plot columns of an output CSV against time, as PNG.
     #[cfg(feature = "plot")]
     Plot {
@@ -55,6 +84,25 @@ enum Command {
     },
 }
 
+#[derive(Subcommand)]
+enum Shape {
+    /// A z-folded chain of panels off the hub.
+    Zfold {
+        /// Number of panels.
+        #[arg(long)]
+        panels: usize,
+    },
+    /// A grid of panels hinged to their neighbours (many loops).
+    Grid {
+        /// Rows of panels.
+        #[arg(long)]
+        rows: usize,
+        /// Columns of panels.
+        #[arg(long)]
+        cols: usize,
+    },
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
@@ -65,6 +113,47 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         },
+        Command::Generate {
+            shape,
+            panel_mass,
+            k_translation,
+            k_bending,
+            k_fold,
+            fold_deg,
+            duration,
+            tolerance,
+            output,
+        } => {
+            let p = foldsim::generate::Params {
+                panel_mass,
+                k_translation,
+                k_bending,
+                k_fold,
+                fold_deg,
+                duration,
+                tolerance,
+                ..Default::default()
+            };
+            let text = match shape {
+                Shape::Zfold { panels } if panels >= 1 => foldsim::generate::zfold(panels, &p),
+                Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 => foldsim::generate::grid(rows, cols, &p),
+                _ => {
+                    eprintln!("error: a z-fold needs --panels ≥ 1, a grid --rows ≥ 2 and --cols ≥ 2");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let Some(output) = output else {
+                print!("{text}");
+                return ExitCode::SUCCESS;
+            };
+            match std::fs::write(&output, text) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: cannot write {}: {e}", output.display());
+                    ExitCode::FAILURE
+                }
+            }
+        }
         #[cfg(feature = "plot")]
         Command::Plot { csv, columns, degrees, title, output } => {
             match foldsim::plot::plot_columns(&csv, &columns, degrees, &title, &output) {

@@ -26,7 +26,7 @@ fn structure(kind: &str, n: usize, p: &Params) -> Scenario {
         "chain" => zfold(n, p),
         _ => {
             // The most nearly square grid with n panels.
-            let rows = (1..=(n as f64).sqrt() as usize).rev().find(|r| n % r == 0).unwrap_or(1).max(2);
+            let rows = (1..=(n as f64).sqrt() as usize).rev().find(|r| n.is_multiple_of(*r)).unwrap_or(1).max(2);
             let cols = (n / rows).max(2);
             grid(rows, cols, p)
         }

@@ -258,12 +258,15 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             rel(d.energy_balance, scale)
         );
     }
-    let notable: Vec<_> = r.events.iter().filter(|e| e.kind != EventKind::Branch).collect();
-    let branch = r.events.len() - notable.len();
-    if !r.events.is_empty() {
-        println!("  hinge events: {} located ({} hysteresis branch changes)", r.events.len(), branch);
+    if !r.events.is_empty() || r.branch_events > 0 {
+        println!(
+            "  hinge events: {} located ({} stop or latch, {} hysteresis branch changes or table points)",
+            r.events.len() + r.branch_events,
+            r.events.len(),
+            r.branch_events
+        );
     }
-    for e in notable {
+    for e in &r.events {
         let h = &scenario.model.hinges[e.hinge];
         println!("    t = {:.9} s  {}: {}", e.t, h.name, e.description);
     }

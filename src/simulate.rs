@@ -7,6 +7,7 @@
 
 use crate::dynamics::{Dynamics, LawEvent};
 use crate::init::{InitialConditions, initial_state};
+use crate::law::EventKind;
 use crate::model::Model;
 use crate::observe::{Observation, Observer};
 use crate::ode::{Control, Method, OdeError, Step, integrate};
@@ -103,8 +104,11 @@ pub struct RunReport {
     pub drift: Drift,
     /// True if every hinge law conserves E (so `drift.energy` should be small).
     pub energy_conserving: bool,
-    /// Located law events (latches, stop contacts, hysteresis branch changes), in time order.
+    /// Located stop and latch events (contacts, releases, latches), in time order.
     pub events: Vec<LawEvent>,
+    /// Number of other located law events (hysteresis branch changes, table data points
+    /// crossed): counted, not kept, so memory stays flat in run length.
+    pub branch_events: usize,
     /// Per hinge: energy dissipated over the run, J.
     pub hinge_dissipated: Vec<f64>,
 }
@@ -156,6 +160,9 @@ struct StreamOut<'d, 'm, 's, 'p> {
     g_prev: Vec<f64>,
     g_end: Vec<f64>,
     events: Vec<LawEvent>,
+    branch_events: usize,
+    /// Time of the last event and how many events happened at exactly that time.
+    same_instant: (f64, usize),
     /// An event located inside the last step, which the integrator is retaking to end there.
     pending: Option<(usize, f64)>,
 }
@@ -292,15 +299,19 @@ impl StreamOut<'_, '_, '_, '_> {
     /// events at one instant mean the switching chatters, which is reported.
     fn apply_event(&mut self, k: usize, t: f64, y: &[f64]) -> Result<(), SimError> {
         let event = self.dynamics.apply_event(k, t, y);
-        let same_instant = self.events.iter().rev().take_while(|e| e.t == t).count();
-        if same_instant >= 100 {
+        self.same_instant = if self.same_instant.0 == t { (t, self.same_instant.1 + 1) } else { (t, 1) };
+        if self.same_instant.1 >= 100 {
             let h = &self.dynamics.model().hinges[event.hinge];
             return Err(SimError::Physics(format!(
                 "hinge '{}' switches without end at t = {t:.9} s ({}): its events chatter at one instant",
                 h.name, event.description
             )));
         }
-        self.events.push(event);
+        if event.kind == EventKind::Branch {
+            self.branch_events += 1;
+        } else {
+            self.events.push(event);
+        }
         self.dynamics.event_values(y, &mut self.g_prev);
         for g in &mut self.g_prev {
             *g = g.max(0.0);
@@ -400,6 +411,8 @@ pub fn simulate(
         g_prev: vec![0.0; n_events],
         g_end: vec![0.0; n_events],
         events: Vec::new(),
+        branch_events: 0,
+        same_instant: (f64::NAN, 0),
         pending: None,
     };
     let start = Instant::now();
@@ -437,5 +450,6 @@ pub fn simulate(
         energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy()),
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
         events: out.events,
+        branch_events: out.branch_events,
     })
 }

@@ -331,8 +331,8 @@ impl<'m> Dynamics<'m> {
         for (i, (h, theta_ref)) in model.hinges.iter().zip(refs.iter()).enumerate() {
             let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], theta_ref);
             let memory = &memories[i];
-            let HingeWrench { force_in_a0, torque_in_a } = h.law.wrench(&k.state, memory);
-            dydt[diss0 + i] = h.law.dissipation_power(&k.state, memory);
+            let (HingeWrench { force_in_a0, torque_in_a }, power) = h.law.wrench_and_dissipation(&k.state, memory);
+            dydt[diss0 + i] = power;
             let f_n = k.dcm_n_a0 * force_in_a0;
             let tau_n = k.dcm_n_a * torque_in_a;
             force_in_n[h.parent] += f_n;

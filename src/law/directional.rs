@@ -273,14 +273,24 @@ impl DirectionalLaw {
 
 impl HingeLaw for DirectionalLaw {
     fn wrench(&self, state: &HingeState, memory: &LawMemory) -> HingeWrench {
+        self.wrench_and_dissipation(state, memory).0
+    }
+
+    fn wrench_and_dissipation(&self, state: &HingeState, memory: &LawMemory) -> (HingeWrench, f64) {
         let (q, qd, j_inv) = self.coordinates(state);
-        let f: [f64; 6] = std::array::from_fn(|i| self.evaluate(i, &q, &qd, memory).0);
+        let mut f = [0.0; 6];
+        let mut p = 0.0;
+        for (i, fi) in f.iter_mut().enumerate() {
+            let (force, _, power) = self.evaluate(i, &q, &qd, memory);
+            *fi = force;
+            p += power;
+        }
         let g_rot = Vec3::new(f[3], f[4], f[5]);
         let torque_in_a = match j_inv {
             None => state.theta.torque_from_generalized(&Vec3::new(f[5], f[4], f[3])),
             Some(j_inv) => j_inv.transpose() * g_rot,
         };
-        HingeWrench { force_in_a0: Vec3::new(f[0], f[1], f[2]), torque_in_a }
+        (HingeWrench { force_in_a0: Vec3::new(f[0], f[1], f[2]), torque_in_a }, p)
     }
 
     fn stored_energy(&self, state: &HingeState, memory: &LawMemory) -> f64 {

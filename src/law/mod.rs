@@ -126,6 +126,12 @@ pub trait HingeLaw: Debug + Send + Sync {
     /// the paper-linear law it is the power of its non-potential torque, of either sign.
     fn dissipation_power(&self, state: &HingeState, memory: &LawMemory) -> f64;
 
+    /// [`HingeLaw::wrench`] and [`HingeLaw::dissipation_power`] together, as the
+    /// right-hand side needs both (laws override it to share the work).
+    fn wrench_and_dissipation(&self, state: &HingeState, memory: &LawMemory) -> (HingeWrench, f64) {
+        (self.wrench(state, memory), self.dissipation_power(state, memory))
+    }
+
     /// True if the law's forces derive from [`HingeLaw::stored_energy`] and nothing
     /// dissipates, so that `E = T + V` is conserved.
     fn conserves_energy(&self) -> bool;

@@ -226,6 +226,11 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     println!("  wall time        {:.3} s", r.wall_seconds);
     println!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
     println!("  rhs evaluations  {}", r.rhs_evaluations);
+    if let Some(t) = r.stiff_from {
+        println!(
+            "  note: from t = {t:.4} s the explicit steps were limited by stability, not accuracy: stiff hinges (an implicit integrator is planned for this)"
+        );
+    }
     println!("  output rows      {} -> {}", r.rows, csv.display());
     println!("  drift over the run (max |x(t) - x(0)|):");
     println!(

@@ -41,7 +41,7 @@ pub enum Method {
 }
 
 /// Counters of one integration.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
     /// Accepted steps.
     pub accepted: usize,
@@ -49,6 +49,9 @@ pub struct Stats {
     pub rejected: usize,
     /// Right-hand-side evaluations.
     pub rhs_evaluations: usize,
+    /// First time at which DOP853 found its step limited by stability rather than accuracy
+    /// (Hairer's test: h·|λ| > 6.1 on 15 accepted steps in a row), if it did.
+    pub stiff_from: Option<f64>,
 }
 
 /// Why an integration stopped early.
@@ -608,6 +611,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     stats.rhs_evaluations += 1;
     let mut facold: f64 = 1e-4;
     let mut last_rejected = false;
+    let mut stiff_count = 0usize;
     loop {
         let mut last = false;
         if t + 1.01 * h - tf > 0.0 {
@@ -679,6 +683,22 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             if is853 {
                 system.rhs(t + h, &w.y_new, &mut w.k[12]);
                 stats.rhs_evaluations += 1;
+                // Stiffness detection (dop853.f): h·|λ| from the last stage and the new point.
+                if stats.stiff_from.is_none() {
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for i in 0..n {
+                        num += (w.k[12][i] - w.k[11][i]).powi(2);
+                        den += (w.y_new[i] - w.y_stage[i]).powi(2);
+                    }
+                    if den > 0.0 && h.abs() * (num / den).sqrt() > 6.1 {
+                        stiff_count += 1;
+                        if stiff_count == 15 {
+                            stats.stiff_from = Some(t);
+                        }
+                    } else {
+                        stiff_count = 0;
+                    }
+                }
             }
             hermite(&mut w.cont, y, &w.y_new, &w.k[0], &w.k[fsal], h);
             if is853 {

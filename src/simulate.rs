@@ -106,6 +106,9 @@ pub struct RunReport {
     pub energy_conserving: bool,
     /// Located stop and latch events (contacts, releases, latches), in time order.
     pub events: Vec<LawEvent>,
+    /// First time at which the explicit integrator found its step limited by stability (stiff
+    /// hinges), if it did.
+    pub stiff_from: Option<f64>,
     /// Number of other located law events (hysteresis branch changes, table data points
     /// crossed): counted, not kept, so memory stays flat in run length.
     pub branch_events: usize,
@@ -451,5 +454,6 @@ pub fn simulate(
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
         events: out.events,
         branch_events: out.branch_events,
+        stiff_from: stats.stiff_from,
     })
 }

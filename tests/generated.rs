@@ -51,3 +51,14 @@ fn generate_command_writes_a_runnable_scenario() {
     assert_eq!(s.model.bodies.len(), 7);
     assert_eq!(s.settings.duration, 0.1);
 }
+
+/// The explicit path says when stiff hinges, not accuracy, limit its steps (Hairer's DOP853
+/// test), and stays quiet on the canonical cases.
+#[test]
+fn stiffness_is_reported() {
+    let p = Params { duration: 2.0, tolerance: 1e-6, k_translation: 1e7, k_bending: 1e4, ..Params::default() };
+    let (_, _, r) = run(&Scenario::from_toml(&grid(3, 3, &p), "stiff").unwrap());
+    assert!(r.stiff_from.is_some(), "a 1e7 N/m grid at rtol 1e-6 is stiff for DOP853");
+    let (_, _, r) = run(&scenario("examples/paper-1panel.toml"));
+    assert!(r.stiff_from.is_none());
+}

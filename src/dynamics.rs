@@ -85,6 +85,8 @@ pub struct Dynamics<'m> {
     theta_refs: RefCell<Vec<Euler321>>,
     memories: RefCell<Vec<LawMemory>>,
     locks: RefCell<Vec<Lock>>,
+    /// Per hinge: whether it has a locked direction (its kinematics feed the constraints).
+    locked_hinge: Vec<bool>,
     event_offsets: Vec<usize>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
@@ -124,6 +126,7 @@ impl<'m> Dynamics<'m> {
             theta_refs: RefCell::new(theta_refs),
             memories: RefCell::new(vec![LawMemory::default(); model.hinges.len()]),
             locks: RefCell::new(Vec::new()),
+            locked_hinge: model.hinges.iter().map(|h| h.law.locked_directions().iter().any(|l| *l)).collect(),
             event_offsets,
             scratch: RefCell::new(Scratch {
                 motions: vec![BodyMotion::default(); nb],
@@ -339,7 +342,7 @@ impl<'m> Dynamics<'m> {
             torque_in_n[h.parent] += k.arm_parent_in_n.cross(&f_n) + tau_n;
             force_in_n[h.child] -= f_n;
             torque_in_n[h.child] -= k.arm_child_in_n.cross(&f_n) + tau_n;
-            if keep {
+            if keep && self.locked_hinge[i] {
                 kinematics[i] = Some(k);
             }
         }

@@ -871,4 +871,42 @@ mod tests {
         let ratio = s12.accepted as f64 / s8.accepted as f64;
         assert!((2.0..5.0).contains(&ratio), "step ratio {ratio}");
     }
+
+    struct Constant;
+    impl OdeSystem for Constant {
+        fn rhs(&self, _t: f64, _y: &[f64], d: &mut [f64]) {
+            d[0] = 1.0;
+        }
+    }
+
+    /// Truncate makes the integrator retake the step to end exactly at the asked time, and
+    /// Restart continues from a modified state: y' = 1 with a jump of +1 at t = 0.3 ends at 2.
+    #[test]
+    fn truncate_then_restart_lands_on_the_event() {
+        for method in [
+            Method::Dop853 { rtol: 1e-10, atol: 1e-10 },
+            Method::Dopri5 { rtol: 1e-10, atol: 1e-10 },
+            Method::Rk4 { step: 0.25 },
+        ] {
+            let mut ends = Vec::new();
+            let mut done = false;
+            let mut last = 0.0;
+            integrate(&Constant, method, 0.0, 1.0, &[0.0], |s: &Step<'_>| -> Result<Control, ()> {
+                ends.push(s.t);
+                last = s.y[0];
+                if !done && s.t > 0.3 && s.t_prev < 0.3 {
+                    return Ok(Control::Truncate { t: 0.3 });
+                }
+                if !done && s.t == 0.3 {
+                    done = true;
+                    return Ok(Control::Restart { t: 0.3, y: vec![s.y[0] + 1.0] });
+                }
+                Ok(Control::Continue)
+            })
+            .unwrap();
+            assert!(ends.contains(&0.3), "{method:?}: a step must end at the event: {ends:?}");
+            assert!((last - 2.0).abs() < 1e-12, "{method:?}: final {last}");
+            assert_eq!(*ends.last().unwrap(), 1.0);
+        }
+    }
 }

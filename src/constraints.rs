@@ -181,7 +181,6 @@ fn inertia_inverses(model: &Model, motions: &[BodyMotion]) -> Vec<Mat3> {
 /// Work space for [`constrain_accelerations`], reused across evaluations.
 #[derive(Debug, Default)]
 pub struct Workspace {
-    inertia_inv_in_n: Vec<Mat3>,
     /// Per row: `M⁻¹ Jᵀ` on the parent (linear, angular) and the child.
     scaled: Vec<[Vec3; 4]>,
     /// `J M⁻¹ Jᵀ`, row-major, then its Cholesky factor in place.
@@ -242,20 +241,20 @@ pub fn constrain_accelerations(
     work: &mut Workspace,
 ) -> bool {
     let n = rows.len();
-    work.inertia_inv_in_n.clear();
-    work.inertia_inv_in_n.extend(
-        model.bodies.iter().zip(motions).map(|(b, m)| m.dcm_n_b * b.inertia_inv_in_body * m.dcm_n_b.transpose()),
-    );
-    let inv = &work.inertia_inv_in_n;
+    // M⁻¹ Jᵀ per row; the angular part as [N b] I⁻¹ [b N] w, without forming I_N⁻¹.
+    let inv_ang = |b: usize, w: &Vec3| {
+        let r = &motions[b].dcm_n_b;
+        r * (model.bodies[b].inertia_inv_in_body * (r.transpose() * w))
+    };
     work.scaled.clear();
-    work.scaled.extend(rows.iter().map(|r| {
-        [
+    for r in rows {
+        work.scaled.push([
             r.lin_p / model.bodies[r.parent].mass,
-            inv[r.parent] * r.ang_p,
+            inv_ang(r.parent, &r.ang_p),
             r.lin_c / model.bodies[r.child].mass,
-            inv[r.child] * r.ang_c,
-        ]
-    }));
+            inv_ang(r.child, &r.ang_c),
+        ]);
+    }
     work.matrix.clear();
     work.matrix.resize(n * n, 0.0);
     for (r, ra) in rows.iter().enumerate() {

@@ -17,6 +17,7 @@
 pub mod constraints;
 pub mod dynamics;
 pub mod generate;
+pub mod implicit;
 pub mod init;
 pub mod law;
 pub mod math;

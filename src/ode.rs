@@ -113,7 +113,13 @@ pub struct Step<'a> {
     cont: &'a [Vec<f64>],
 }
 
-impl Step<'_> {
+impl<'a> Step<'a> {
+    /// A step whose dense output is the cubic Hermite with terms `cont` (Hairer's rcont1..4:
+    /// y_prev, y − y_prev, h f_prev − (y − y_prev), (y − y_prev) − h f − that).
+    pub(crate) fn hermite(t_prev: f64, t: f64, y: &'a [f64], cont: &'a [Vec<f64>]) -> Self {
+        Step { t_prev, t, y, kind: DenseKind::Hermite, cont }
+    }
+
     /// The dense-output state at `t` in `[t_prev, t]`, written into `out`.
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
         let h = self.t - self.t_prev;

@@ -145,6 +145,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         prepared_h = h;
         // Stages: Z_i − hγ f(y + Z_i) = h Σ_{j<i} a_ij f(y + Z_j).
         let mut converged = true;
+        let mut max_iterations = 0;
         for i in 0..5 {
             for k in 0..n {
                 let mut s = 0.0;
@@ -162,7 +163,8 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             }
             let mut previous = f64::INFINITY;
             let mut ok = false;
-            for _ in 0..8 {
+            for iteration in 1..=8 {
+                max_iterations = max_iterations.max(iteration);
                 for k in 0..n {
                     yi[k] = y[k] + z[i][k];
                 }
@@ -262,13 +264,18 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 stats.rhs_evaluations += newton.evaluations();
                 return Ok(stats);
             }
-            h *= factor;
-            // A fresh Jacobian when the last one is getting old relative to the step.
-            fresh_jacobian = false;
-            if !newton.prepare(t, &y, &f0, h * GAMMA) {
-                return Err(OdeError::StepTooSmall { t, h });
+            // Keep h (and the factorization) for small changes; a fresh Jacobian only when
+            // Newton needed many iterations (Hairer's strategy for SDIRK codes).
+            if !(1.0..=1.2).contains(&factor) {
+                h *= factor;
             }
-            prepared_h = h;
+            if max_iterations > 3 {
+                fresh_jacobian = false;
+                if !newton.prepare(t, &y, &f0, h * GAMMA) {
+                    return Err(OdeError::StepTooSmall { t, h });
+                }
+                prepared_h = h;
+            }
         } else {
             stats.rejected += 1;
             h *= factor.min(1.0);

@@ -29,4 +29,5 @@ pub mod output;
 pub mod plot;
 pub mod scenario;
 pub mod simulate;
+pub mod sparse;
 pub mod state;

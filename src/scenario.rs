@@ -441,11 +441,15 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         }
     };
     let integrator = match run.integrator.get_ref().as_str() {
-        name @ ("dop853" | "dopri5") => {
+        name @ ("dop853" | "dopri5" | "sdirk4") => {
             forbid(&run.step, "run.step")?;
             let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
             let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
-            if name == "dop853" { Integrator::Dop853 { rtol, atol } } else { Integrator::Dopri5 { rtol, atol } }
+            match name {
+                "dop853" => Integrator::Dop853 { rtol, atol },
+                "dopri5" => Integrator::Dopri5 { rtol, atol },
+                _ => Integrator::Sdirk4 { rtol, atol },
+            }
         }
         "rk4" => {
             forbid(&run.rtol, "run.rtol")?;
@@ -455,7 +459,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         other => {
             return Err(ctx.span(
                 &run.integrator,
-                format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"rk4\""),
+                format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"sdirk4\", \"rk4\""),
             ));
         }
     };

@@ -42,7 +42,7 @@ fn paper_3panel_law2_matches_reference() {
 }
 
 /// The other integrators reach the same trajectory: Dormand–Prince 5(4) at rtol = atol =
-/// 1e-11 and RK4 with a 1 ms step (the slowest hinge mode has a period of ~2 s, so
+/// 1e-11, SDIRK4 (implicit, hinge-graph-sparse Newton) at 1e-10, and RK4 with a 1 ms step (the slowest hinge mode has a period of ~2 s, so
 /// (hω)⁴ ≈ 1e-11 per unit time); measured ~2e-9 for both; bound 1e-7, far below the motion (δ ~ 1e-2, angles ~ 0.5)
 /// and far above either method's error, so a wrong stage or dense-output coefficient fails.
 #[test]
@@ -52,6 +52,7 @@ fn other_integrators_agree_with_reference() {
     for (name, run_table) in [
         ("dopri5", "integrator = \"dopri5\"\nrtol = 1e-11\natol = 1e-11"),
         ("rk4", "integrator = \"rk4\"\nstep = 0.001"),
+        ("sdirk4", "integrator = \"sdirk4\"\nrtol = 1e-10\natol = 1e-10"),
     ] {
         let t = text.replace("integrator = \"dop853\"\nrtol = 1e-12\natol = 1e-12", run_table);
         let s = foldsim::scenario::Scenario::from_toml(&t, name).unwrap();

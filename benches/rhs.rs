@@ -2,8 +2,8 @@
 //! `foldsim::generate` (a z-folded chain, and a grid whose hinges mostly close loops), law 2
 //! with stiff off-axis hinges:
 //! - one right-hand-side evaluation, per hinge, for N = 1 … 4096 panels;
-//! - wall time per simulated second with the explicit DOP853 path at rtol = atol = 1e-8, for
-//!   the smaller sizes (the explicit step is limited by the stiff directions).
+//! - wall time per simulated second with the explicit (DOP853) and implicit (SDIRK4) paths at
+//!   rtol = atol = 1e-6 with 1e7 N/m off-axis hinges, for the smaller sizes.
 //!
 //! Prints the machine's load average beside the figures, since these machines are shared.
 //! Run: `cargo bench --bench rhs` (add `-- --quick` for a short pass).
@@ -74,19 +74,32 @@ fn main() {
             std::hint::black_box(&dydt);
         }
     }
-    println!("\nexplicit DOP853, rtol = atol = 1e-8, {} s simulated", p.duration);
-    println!("{:>6} {:>6} {:>10} {:>10} {:>14}", "shape", "panels", "steps", "rhs evals", "wall s / sim s");
+    let p = Params { duration: 2.0, tolerance: 1e-6, k_translation: 1e7, k_bending: 1e4, ..p };
+    println!(
+        "\nwall time per simulated second, rtol = atol = {:e}, {} s simulated, k_translation 1e7 N/m, k_bending 1e4 N·m/rad",
+        p.tolerance, p.duration
+    );
+    println!(
+        "{:>6} {:>6} {:>8} {:>10} {:>10} {:>14}",
+        "shape", "panels", "method", "steps", "rhs evals", "wall s / sim s"
+    );
     for kind in ["chain", "grid"] {
         for n in [4usize, 16, 64] {
-            let s = structure(kind, n, &p);
-            let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
-            let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
-            println!(
-                "{kind:>6} {n:>6} {:>10} {:>10} {:>14.4}",
-                r.steps_accepted,
-                r.rhs_evaluations,
-                r.wall_seconds / s.settings.duration
-            );
+            for method in ["dop853", "sdirk4"] {
+                let mut s = structure(kind, n, &p);
+                if method == "sdirk4" {
+                    s.settings.integrator =
+                        foldsim::simulate::Integrator::Sdirk4 { rtol: p.tolerance, atol: p.tolerance };
+                }
+                let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
+                let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
+                println!(
+                    "{kind:>6} {n:>6} {method:>8} {:>10} {:>10} {:>14.4}",
+                    r.steps_accepted,
+                    r.rhs_evaluations,
+                    r.wall_seconds / s.settings.duration
+                );
+            }
         }
     }
     println!("\nload average after: {}", load());

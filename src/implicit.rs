@@ -191,11 +191,11 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 converged = false;
                 break;
             }
-            // f at the converged stage from the stage equation itself, hγ f = Z − rhs, as
-            // SDIRK codes do: no further evaluation, and exact for the converged Z.
             for k in 0..n {
-                fz[i][k] = (z[i][k] - rhs[k]) / (h * GAMMA);
+                yi[k] = y[k] + z[i][k];
             }
+            system.rhs(t + C[i] * h, &yi, &mut fz[i]);
+            stats.rhs_evaluations += 1;
         }
         if !converged {
             stats.rejected += 1;

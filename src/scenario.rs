@@ -870,7 +870,7 @@ fn direction(
                 }
             }
         }
-        Response::TapeSpring(TapeSpring { increasing, decreasing, transition_stiffness: k0 })
+        Response::TapeSpring(TapeSpring::new(increasing, decreasing, k0))
     } else {
         Response::Free
     };

@@ -18,7 +18,7 @@
 //! while u increases). The force is continuous, the dissipation `gap (k₀ − gap′) u̇ / k₀` is
 //! never negative, and the mode is discrete memory changed by located events.
 
-use super::table::{Outside, Table};
+use super::table::{Outside, Table, piece, piece_bounds};
 use super::{DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, LawMemory, SlipMode};
 use crate::math::{Mat3, Vec3, rotation_vector, rotation_vector_rate_matrix_inverse};
 
@@ -44,9 +44,19 @@ pub struct TapeSpring {
     pub decreasing: Table,
     /// Stiffness of the elastic transition between branches after a reversal, N·m/rad or N/m.
     pub transition_stiffness: f64,
+    /// The data points of both branches, merged (kinks of the response, located as events).
+    pub knots: Vec<f64>,
 }
 
 impl TapeSpring {
+    /// A tape spring from its two branches and transition stiffness.
+    pub fn new(increasing: Table, decreasing: Table, transition_stiffness: f64) -> Self {
+        let mut knots: Vec<f64> = increasing.points().iter().chain(decreasing.points()).copied().collect();
+        knots.sort_by(f64::total_cmp);
+        knots.dedup();
+        Self { increasing, decreasing, transition_stiffness, knots }
+    }
+
     /// Gap between branches `f_inc(u) − f_dec(u)` and its derivative.
     fn gap(&self, u: f64) -> (f64, f64) {
         let (fi, dfi) = self.increasing.eval(u);
@@ -218,7 +228,8 @@ impl Direction {
     }
 
     fn has_events(&self) -> bool {
-        matches!(self.response, Response::TapeSpring(_) | Response::Table(_)) || self.stop.is_some()
+        matches!(self.response, Response::TapeSpring(_) | Response::Table(_) | Response::Table2(_))
+            || self.stop.is_some()
     }
 }
 
@@ -231,9 +242,9 @@ pub struct DirectionalLaw {
     pub directions: [Direction; 6],
 }
 
-/// Event slots per direction: two for the slip element or a table's data points, one for
-/// the stop.
-const SLOTS: usize = 3;
+/// Event slots per direction: 0–1 the slip element or a table's data points in u, 2 the
+/// stop, 3–4 a 2-D table's grid lines in v or a tape spring's data points.
+const SLOTS: usize = 5;
 
 impl DirectionalLaw {
     /// Coordinates and rates `(q, q̇)` of the six directions, and for rotation vectors the
@@ -258,6 +269,19 @@ impl DirectionalLaw {
 
     fn any_events(&self) -> bool {
         self.directions.iter().any(Direction::has_events)
+    }
+
+    /// Sets the bookkeeping pieces of direction i (at u = q − rest) from the coordinates.
+    fn set_pieces(&self, i: usize, u: f64, q: &[f64; 6], m: &mut DirectionMemory) {
+        match &self.directions[i].response {
+            Response::Table(t) => m.piece = t.piece(u),
+            Response::Table2(t2) => {
+                m.piece = t2.lines[0].piece(u);
+                m.piece_2 = piece(&t2.v, q[t2.other] - self.directions[t2.other].rest);
+            }
+            Response::TapeSpring(ts) => m.piece_2 = piece(&ts.knots, u),
+            _ => {}
+        }
     }
 
     /// Direction i's force, energy and dissipation power.
@@ -320,9 +344,7 @@ impl HingeLaw for DirectionalLaw {
         let mut m = LawMemory::default();
         for (i, d) in self.directions.iter().enumerate() {
             let u = q[i] - d.rest;
-            if let Response::Table(t) = &d.response {
-                m.directions[i].piece = t.piece(u);
-            }
+            self.set_pieces(i, u, &q, &mut m.directions[i]);
             if let Response::TapeSpring(ts) = &d.response {
                 // Moving: the branch of the motion. At rest: the branch it is about to take
                 // under its own restoring force.
@@ -352,10 +374,18 @@ impl HingeLaw for DirectionalLaw {
             let slots = &mut out[SLOTS * i..SLOTS * (i + 1)];
             slots.fill(1.0);
             let u = q[i] - d.rest;
-            if let Response::Table(t) = &d.response {
-                let (lo, hi) = t.piece_bounds(m.piece);
-                slots[0] = if lo.is_finite() { u - lo } else { 1.0 };
-                slots[1] = if hi.is_finite() { hi - u } else { 1.0 };
+            let bounds = |(lo, hi): (f64, f64), x: f64| {
+                (if lo.is_finite() { x - lo } else { 1.0 }, if hi.is_finite() { hi - x } else { 1.0 })
+            };
+            match &d.response {
+                Response::Table(t) => (slots[0], slots[1]) = bounds(t.piece_bounds(m.piece), u),
+                Response::Table2(t2) => {
+                    (slots[0], slots[1]) = bounds(t2.lines[0].piece_bounds(m.piece), u);
+                    let v = q[t2.other] - self.directions[t2.other].rest;
+                    (slots[3], slots[4]) = bounds(piece_bounds(&t2.v, m.piece_2), v);
+                }
+                Response::TapeSpring(ts) => (slots[3], slots[4]) = bounds(piece_bounds(&ts.knots, m.piece_2), u),
+                _ => {}
             }
             if let Response::TapeSpring(ts) = &d.response {
                 match m.slip {
@@ -403,13 +433,21 @@ impl HingeLaw for DirectionalLaw {
                 m.slip = SlipMode::Increasing;
                 (EventKind::Branch, format!("{name}: slides on the increasing branch at {:.6}", q[i]))
             }
-            (0, Response::Table(_), _) => {
+            (0, Response::Table(_) | Response::Table2(_), _) => {
                 m.piece -= 1;
                 (EventKind::Branch, format!("{name}: crosses a table point downward at {:.6}", q[i]))
             }
-            (1, Response::Table(_), _) => {
+            (1, Response::Table(_) | Response::Table2(_), _) => {
                 m.piece += 1;
                 (EventKind::Branch, format!("{name}: crosses a table point upward at {:.6}", q[i]))
+            }
+            (3, _, _) => {
+                m.piece_2 -= 1;
+                (EventKind::Branch, format!("{name}: crosses a table grid line downward"))
+            }
+            (4, _, _) => {
+                m.piece_2 += 1;
+                (EventKind::Branch, format!("{name}: crosses a table grid line upward"))
             }
             (2, _, _) => {
                 let stop = d.stop.as_ref().expect("stop events come from a stop");
@@ -437,9 +475,7 @@ impl HingeLaw for DirectionalLaw {
     fn sync_memory(&self, state: &HingeState, memory: &mut LawMemory) {
         let (q, _, _) = self.coordinates(state);
         for (i, d) in self.directions.iter().enumerate() {
-            if let Response::Table(t) = &d.response {
-                memory.directions[i].piece = t.piece(q[i] - d.rest);
-            }
+            self.set_pieces(i, q[i] - d.rest, &q, &mut memory.directions[i]);
         }
     }
 
@@ -489,11 +525,11 @@ mod tests {
     fn tape() -> TapeSpring {
         let inc = [(-0.1, -2.0), (0.0, 0.0), (0.02, 8.0), (0.1, 0.8), (3.0, 0.9)];
         let dec = [(-0.1, -3.0), (0.0, 0.0), (0.02, 0.3), (0.1, 0.3), (3.0, 0.4)];
-        TapeSpring {
-            increasing: Table::new(&inc, Interpolation::Pchip, Outside::Extend).unwrap(),
-            decreasing: Table::new(&dec, Interpolation::Pchip, Outside::Extend).unwrap(),
-            transition_stiffness: 500.0,
-        }
+        TapeSpring::new(
+            Table::new(&inc, Interpolation::Pchip, Outside::Extend).unwrap(),
+            Table::new(&dec, Interpolation::Pchip, Outside::Extend).unwrap(),
+            500.0,
+        )
     }
 
     /// Along any path and in every mode, the law's power balance holds:

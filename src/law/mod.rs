@@ -102,6 +102,9 @@ pub struct DirectionMemory {
     /// Piece of a table response the coordinate is in (see `Table::piece`): crossing a data
     /// point is an event, so the integrator never steps over a kink of the response.
     pub piece: i64,
+    /// Second bookkeeping piece: a 2-D table's grid interval in the coupled coordinate, or the
+    /// interval of a tape spring's data points.
+    pub piece_2: i64,
 }
 
 /// Discrete memory a law keeps across steps, per direction (x, y, z, rx, ry, rz).

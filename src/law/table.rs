@@ -104,28 +104,14 @@ impl Table {
         q >= a && q <= b
     }
 
-    /// Index of the piece holding `q`: −1 below the first point, `n − 1` above the last,
-    /// else the segment `[x_i, x_{i+1})`.
+    /// Index of the piece holding `q` (see [`piece`]).
     pub fn piece(&self, q: f64) -> i64 {
-        let n = self.x.len() as i64;
-        if q < self.x[0] {
-            -1
-        } else if q >= self.x[self.x.len() - 1] {
-            n - 1
-        } else {
-            self.segment(q) as i64
-        }
+        piece(&self.x, q)
     }
 
-    /// Bounds `[lo, hi)` of piece `p` (see [`Table::piece`]), infinite outside the data.
+    /// Bounds of piece `p` (see [`piece_bounds`]).
     pub fn piece_bounds(&self, p: i64) -> (f64, f64) {
-        let n = self.x.len() as i64;
-        let at = |i: i64| self.x[i as usize];
-        match p {
-            p if p < 0 => (f64::NEG_INFINITY, at(0)),
-            p if p >= n - 1 => (at(n - 1), f64::INFINITY),
-            p => (at(p), at(p + 1)),
-        }
+        piece_bounds(&self.x, p)
     }
 
     fn segment(&self, q: f64) -> usize {
@@ -296,6 +282,30 @@ impl Table {
             points.push((parse(0)? * scale, parse(1)?));
         }
         Ok((points, angle))
+    }
+}
+
+/// Index of the piece of the increasing `knots` holding `q`: −1 below the first, `n − 1` at
+/// or above the last, else the interval `[x_i, x_{i+1})`.
+pub fn piece(knots: &[f64], q: f64) -> i64 {
+    let n = knots.len() as i64;
+    if q < knots[0] {
+        -1
+    } else if q >= knots[knots.len() - 1] {
+        n - 1
+    } else {
+        (knots.partition_point(|x| *x <= q) - 1) as i64
+    }
+}
+
+/// Bounds `[lo, hi)` of piece `p` of `knots` (see [`piece`]), infinite outside them.
+pub fn piece_bounds(knots: &[f64], p: i64) -> (f64, f64) {
+    let n = knots.len() as i64;
+    let at = |i: i64| knots[i as usize];
+    match p {
+        p if p < 0 => (f64::NEG_INFINITY, at(0)),
+        p if p >= n - 1 => (at(n - 1), f64::INFINITY),
+        p => (at(p), at(p + 1)),
     }
 }
 

@@ -179,6 +179,8 @@ struct StreamOut<'d, 'm, 's, 'p> {
     same_instant: (f64, usize),
     /// An event located inside the last step, which the integrator is retaking to end there.
     pending: Option<(usize, f64)>,
+    /// Initial momenta, held exactly after every step when set (the implicit path).
+    momenta: Option<(crate::math::Vec3, crate::math::Vec3)>,
 }
 
 /// Output times `k · step` below `end`, then `end`.
@@ -384,11 +386,16 @@ impl StreamOut<'_, '_, '_, '_> {
         if let Some(p) = self.progress.as_mut() {
             p(step.t);
         }
-        if self.dynamics.has_locks() && step.t > step.t_prev {
-            // Hold locked directions on their constraints (drift is at the tolerance level).
+        if step.t > step.t_prev && (self.dynamics.has_locks() || self.momenta.is_some()) {
             let mut y = step.y.to_vec();
-            self.dynamics.project(&mut y, false);
-            return Ok(Control::Restart { t: step.t, y });
+            // Hold locked directions on their constraints once they drift.
+            let mut changed = self.dynamics.project(&mut y, false);
+            if let Some((p0, h0)) = &self.momenta {
+                changed |= self.dynamics.restore_momentum(&mut y, p0, h0) > 1e-15;
+            }
+            if changed {
+                return Ok(Control::Restart { t: step.t, y });
+            }
         }
         Ok(Control::Continue)
     }
@@ -428,6 +435,9 @@ pub fn simulate(
         branch_events: 0,
         same_instant: (f64::NAN, 0),
         pending: None,
+        // The implicit method conserves momentum only to its tolerance; a rigid-body velocity
+        // correction after each step holds it exactly without touching the internal motion.
+        momenta: matches!(settings.integrator, Integrator::Sdirk4 { .. }).then(|| dynamics.momenta(&y0)),
     };
     let start = Instant::now();
     let result = match settings.integrator {

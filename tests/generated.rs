@@ -65,9 +65,9 @@ fn stiffness_is_reported() {
 
 /// The implicit path on a stiff loop-heavy grid (1e7 N/m off-axis, 1 N·m/rad fold), 10 s: once
 /// the stiff transients have decayed it takes steps set by accuracy, not stability (fewer
-/// than DOP853's on the same run), and conserves
-/// linear momentum to round-off (internal wrenches, linear invariant) and angular momentum
-/// and energy to the tolerance (1e-6 here: bounds 1e-5 relative).
+/// than DOP853's on the same run), and holds linear and angular momentum to 1e-10 of their
+/// scales (the implicit path restores them after every step by a rigid-body velocity
+/// correction) and energy to its tolerance (1e-6 here: bound 1e-5 relative).
 #[test]
 fn implicit_path_on_a_stiff_grid() {
     let p = Params { duration: 10.0, tolerance: 1e-6, k_translation: 1e7, k_bending: 1e4, ..Params::default() };
@@ -81,6 +81,10 @@ fn implicit_path_on_a_stiff_grid() {
     assert!(ri.steps_accepted < re.steps_accepted, "sdirk4 {} vs dop853 {}", ri.steps_accepted, re.steps_accepted);
     let d = &ri.drift;
     assert!(d.momentum <= 1e-12 * d.momentum_scale.max(1.0));
-    assert!(d.angular_momentum <= 1e-5 * d.angular_momentum_scale);
+    assert!(
+        d.angular_momentum <= 1e-10 * d.angular_momentum_scale,
+        "ΔH {:e}",
+        d.angular_momentum / d.angular_momentum_scale
+    );
     assert!(d.energy <= 1e-5 * obs[0].energy());
 }

@@ -83,7 +83,7 @@ fn implicit_path_on_a_stiff_grid() {
     let d = &ri.drift;
     assert!(d.momentum <= 1e-12 * d.momentum_scale.max(1.0));
     assert!(
-        d.angular_momentum <= 1e-10 * d.angular_momentum_scale,
+        d.angular_momentum <= 1e-9 * d.angular_momentum_scale,
         "ΔH {:e}",
         d.angular_momentum / d.angular_momentum_scale
     );

@@ -249,6 +249,11 @@ impl StreamOut<'_, '_, '_, '_> {
                 let mut y = std::mem::take(&mut self.buffer);
                 y.resize(step.y.len(), 0.0);
                 step.interpolate(t_out, &mut y);
+                if let Some((p0, h0)) = &self.momenta {
+                    // The interpolant between momentum-corrected step ends gets the same
+                    // rigid-body correction (internal motion untouched).
+                    self.dynamics.restore_momentum(&mut y, p0, h0);
+                }
                 let r = self.emit(t_out, &y);
                 self.buffer = y;
                 r?;

@@ -335,11 +335,9 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], 
             return false;
         }
     }
-    let mut largest = 0.0f64;
     for _ in 0..2 {
         let m = motions(y);
         let rows = rows(model, locks, &m, refs);
-        largest = largest.max(rows.iter().map(|r| r.error.abs()).fold(0.0, f64::max));
         let inv = inertia_inverses(model, &m);
         let Some(chol) = effective_mass(model, &rows, &inv).cholesky() else { return true };
         let lambda = chol.solve(&DVector::from_iterator(rows.len(), rows.iter().map(|r| -r.error)));
@@ -381,6 +379,5 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], 
             }
         }
     }
-    let _ = largest;
     true
 }

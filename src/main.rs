@@ -105,14 +105,8 @@ enum Shape {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {
-        Command::Run { scenario, csv, quiet } => match run(&scenario, csv, quiet) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(message) => {
-                eprintln!("error: {message}");
-                ExitCode::FAILURE
-            }
-        },
+    let result = match cli.command {
+        Command::Run { scenario, csv, quiet } => run(&scenario, csv, quiet),
         Command::Generate {
             shape,
             panel_mass,
@@ -134,36 +128,34 @@ fn main() -> ExitCode {
                 tolerance,
                 ..Default::default()
             };
-            let text = match shape {
-                Shape::Zfold { panels } if panels >= 1 => foldsim::generate::zfold(panels, &p),
-                Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 => foldsim::generate::grid(rows, cols, &p),
-                _ => {
-                    eprintln!("error: a z-fold needs --panels ≥ 1, a grid --rows ≥ 2 and --cols ≥ 2");
-                    return ExitCode::FAILURE;
-                }
-            };
-            let Some(output) = output else {
-                print!("{text}");
-                return ExitCode::SUCCESS;
-            };
-            match std::fs::write(&output, text) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("error: cannot write {}: {e}", output.display());
-                    ExitCode::FAILURE
-                }
-            }
+            generate(shape, &p, output)
         }
         #[cfg(feature = "plot")]
         Command::Plot { csv, columns, degrees, title, output } => {
-            match foldsim::plot::plot_columns(&csv, &columns, degrees, &title, &output) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(message) => {
-                    eprintln!("error: {message}");
-                    ExitCode::FAILURE
-                }
-            }
+            foldsim::plot::plot_columns(&csv, &columns, degrees, &title, &output)
         }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>) -> Result<(), String> {
+    let text = match shape {
+        Shape::Zfold { panels } if panels >= 1 => foldsim::generate::zfold(panels, p),
+        Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 => foldsim::generate::grid(rows, cols, p),
+        _ => return Err("a z-fold needs --panels ≥ 1, a grid --rows ≥ 2 and --cols ≥ 2".into()),
+    };
+    match output {
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+        Some(output) => std::fs::write(&output, text).map_err(|e| format!("cannot write {}: {e}", output.display())),
     }
 }
 

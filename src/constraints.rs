@@ -10,12 +10,13 @@
 //! every accepted step the state is projected back onto the constraint manifold (positions,
 //! then velocities, mass-weighted), which holds the locked coordinates to round-off.
 //!
-//! The solve is dense in the number of locked directions: fine for tens of hinges; large
-//! locked structures need the sparse factorization the stiff-hinge issue brings.
+//! `J M⁻¹ Jᵀ` couples only locks whose hinges share a body; it is assembled hinge pair by
+//! hinge pair and factored within its envelope (no fill outside it), which for a chain of
+//! locked hinges is linear in their number.
 
 use crate::dynamics::{HingeKinematics, hinge_kinematics};
-use crate::math::{Euler321, Mat3, Vec3};
-use crate::model::Model;
+use crate::math::{Euler321, EulerTrig, Mat3, Vec3};
+use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
 use nalgebra::{DMatrix, DVector};
 
@@ -58,9 +59,8 @@ pub(crate) fn euler_index(direction: usize) -> usize {
 }
 
 /// Rows of `B(θ)⁻¹` (so `θ̇ = B⁻¹ ω`) and `Ḃ θ̇` for the rates `theta_rate`.
-fn euler_rows(theta: &Euler321, theta_rate: &Vec3) -> ([Vec3; 3], Vec3) {
-    let (s2, c2) = theta.pitch.sin_cos();
-    let (s3, c3) = theta.roll.sin_cos();
+fn euler_rows(trig: &EulerTrig, theta_rate: &Vec3) -> ([Vec3; 3], Vec3) {
+    let EulerTrig { s2, c2, s3, c3 } = *trig;
     let b_inv = [Vec3::new(0.0, s3 / c2, c3 / c2), Vec3::new(0.0, c3, -s3), Vec3::new(1.0, s2 * s3 / c2, s2 * c3 / c2)];
     // B = [[−s2, 0, 1], [s3 c2, c3, 0], [c3 c2, −s3, 0]]
     let db_d2 = Mat3::new(-c2, 0.0, 0.0, -s3 * s2, 0.0, 0.0, -c3 * s2, 0.0, 0.0);
@@ -70,36 +70,28 @@ fn euler_rows(theta: &Euler321, theta_rate: &Vec3) -> ([Vec3; 3], Vec3) {
 }
 
 /// Constraint rows of every lock at body motions `motions`, with the hinges' continuous
-/// angle references `refs`.
+/// angle references `refs`. `locks` are grouped by hinge (as [`crate::dynamics::Dynamics`]
+/// keeps them).
 pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler321]) -> Vec<Row> {
-    let mut kin: Vec<Option<HingeKinematics>> = vec![None; model.hinges.len()];
-    for lock in locks {
-        let h = &model.hinges[lock.hinge];
-        kin[lock.hinge]
-            .get_or_insert_with(|| hinge_kinematics(h, &motions[h.parent], &motions[h.child], &refs[lock.hinge]));
-    }
     let mut out = Vec::with_capacity(locks.len());
-    rows_from(model, locks, motions, |h| kin[h].as_ref().expect("computed above"), &mut out);
+    for group in locks.chunk_by(|a, b| a.hinge == b.hinge) {
+        let i = group[0].hinge;
+        let h = &model.hinges[i];
+        let (p, c) = (&motions[h.parent], &motions[h.child]);
+        hinge_rows(h, group, p, c, &hinge_kinematics(h, p, c, &refs[i]), &mut out);
+    }
     out
 }
 
-/// Constraint rows from the hinges' kinematics (`kinematics(h)` for hinge h), into `out`.
-pub fn rows_from<'k>(
-    model: &Model,
-    locks: &[Lock],
-    motions: &[BodyMotion],
-    kinematics: impl Fn(usize) -> &'k HingeKinematics,
-    out: &mut Vec<Row>,
-) {
-    out.clear();
-    // Per hinge, the Euler-rate data shared by its rotational locks (computed once).
-    let mut euler_cache: Option<(usize, [Vec3; 3], Vec3, Vec3)> = None;
+/// Appends to `out` the rows of `locks`, all of hinge `h`, from the hinge's kinematics `k`
+/// and its parent's and child's motions `p`, `c`.
+#[inline]
+pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: &HingeKinematics, out: &mut Vec<Row>) {
+    let (a_p, a_c) = (k.arm_parent_in_n, k.arm_child_in_n);
+    let (w_p, w_c) = (p.omega_in_n, c.omega_in_n);
+    // The Euler-rate data shared by the hinge's rotational locks, computed once.
+    let mut euler: Option<([Vec3; 3], Vec3, Vec3)> = None;
     for lock in locks {
-        let h = &model.hinges[lock.hinge];
-        let (p, c) = (&motions[h.parent], &motions[h.child]);
-        let k = kinematics(lock.hinge);
-        let (a_p, a_c) = (k.arm_parent_in_n, k.arm_child_in_n);
-        let (w_p, w_c) = (p.omega_in_n, c.omega_in_n);
         let mut row = Row {
             parent: h.parent,
             child: h.child,
@@ -130,15 +122,11 @@ pub fn rows_from<'k>(
             let j = euler_index(lock.direction);
             let theta = k.state.theta;
             let w_rel = k.state.omega_rel_in_a;
-            let (b_inv, b_dot_rate, theta_rate) = match euler_cache {
-                Some((hinge, b, bd, tr)) if hinge == lock.hinge => (b, bd, tr),
-                _ => {
-                    let tr = theta.rates_from_omega(&w_rel);
-                    let (b, bd) = euler_rows(&theta, &tr);
-                    euler_cache = Some((lock.hinge, b, bd, tr));
-                    (b, bd, tr)
-                }
-            };
+            let (b_inv, b_dot_rate, theta_rate) = *euler.get_or_insert_with(|| {
+                let tr = k.state.trig.rates_from_omega(&w_rel);
+                let (b, bd) = euler_rows(&k.state.trig, &tr);
+                (b, bd, tr)
+            });
             let n = k.dcm_n_a * b_inv[j];
             row.ang_c = n;
             row.ang_p = -n;
@@ -181,119 +169,170 @@ fn inertia_inverses(model: &Model, motions: &[BodyMotion]) -> Vec<Mat3> {
 /// Work space for [`constrain_accelerations`], reused across evaluations.
 #[derive(Debug, Default)]
 pub struct Workspace {
-    /// Per row: `M⁻¹ Jᵀ` on the parent (linear, angular) and the child.
-    scaled: Vec<[Vec3; 4]>,
-    /// `J M⁻¹ Jᵀ`, row-major, then its Cholesky factor in place.
+    /// Per row, body components: the parent's angular row part `[p N] j_ω`, then
+    /// `M⁻¹ Jᵀ` on the parent (linear in N, angular in body components), the child's angular
+    /// row part and `M⁻¹ Jᵀ` on the child.
+    body: Vec<[Vec3; 6]>,
+    /// Rows `start..end` of each hinge (rows of one hinge are contiguous).
+    groups: Vec<(usize, usize)>,
+    /// Per row: the first column of its envelope (the first row of the earliest hinge that
+    /// shares a body with its own).
+    first: Vec<usize>,
+    /// `J M⁻¹ Jᵀ`, row-major lower triangle within the envelope, then its Cholesky factor
+    /// in place (no fill outside the envelope).
     matrix: Vec<f64>,
+    /// Reciprocals of the factor's diagonal.
+    inv_diag: Vec<f64>,
     lambda: Vec<f64>,
 }
 
-/// In-place Cholesky factorization of the row-major SPD matrix `a` (n×n), lower triangle.
-fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
+/// In-place Cholesky factorization of the row-major SPD matrix `a` (n×n) whose row `i`
+/// is zero left of column `first[i]` (an envelope, kept by the factor: no fill outside
+/// it). Reads and writes the lower triangle only; `inv_diag` receives the reciprocals of
+/// the factor's diagonal, so the factorization and the solves multiply rather than divide
+/// (divisions would make the latency chain several times longer).
+fn cholesky_in_place(a: &mut [f64], n: usize, first: &[usize], inv_diag: &mut Vec<f64>) -> bool {
+    inv_diag.clear();
+    for i in 0..n {
+        let fi = first[i];
+        for j in fi..i {
+            let f = fi.max(first[j]);
+            let mut v = a[i * n + j];
+            for k in f..j {
+                v -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = v * inv_diag[j];
+        }
+        let mut d = a[i * n + i];
+        for k in fi..i {
+            d -= a[i * n + k] * a[i * n + k];
         }
         if d.is_nan() || d <= 0.0 {
             return false;
         }
         let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut v = a[i * n + j];
-            for k in 0..j {
-                v -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = v / d;
-        }
+        a[i * n + i] = d;
+        inv_diag.push(1.0 / d);
     }
     true
 }
 
 /// Solves `L Lᵀ x = b` in place for the factor from [`cholesky_in_place`].
-fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64]) {
+fn cholesky_solve(l: &[f64], n: usize, first: &[usize], inv_diag: &[f64], b: &mut [f64]) {
     for i in 0..n {
         let mut v = b[i];
-        for k in 0..i {
+        for k in first[i]..i {
             v -= l[i * n + k] * b[k];
         }
-        b[i] = v / l[i * n + i];
+        b[i] = v * inv_diag[i];
     }
     for i in (0..n).rev() {
-        let mut v = b[i];
-        for k in i + 1..n {
-            v -= l[k * n + i] * b[k];
+        let v = b[i] * inv_diag[i];
+        b[i] = v;
+        for k in first[i]..i {
+            b[k] -= l[i * n + k] * v;
         }
-        b[i] = v / l[i * n + i];
     }
 }
 
-/// Corrects free accelerations (`accel` linear, `alpha` angular, N components, per body) so
-/// that every locked coordinate has zero acceleration, given the locks' `rows` at this
-/// state. Returns false if `J M⁻¹ Jᵀ` is singular (redundant locks).
+/// Corrects the free accelerations in the state derivative `dydt` (layout of
+/// [`crate::state`]: `R̈` in N components, `ω̇` in body components) so that every locked
+/// coordinate has zero acceleration, given the locks' `rows` at this state (rows of one
+/// hinge contiguous). Works in each body's own components, so the free body loop's results
+/// are used as they are. `J M⁻¹ Jᵀ` couples only rows whose hinges share a body, so it is
+/// assembled hinge pair by hinge pair and factored within its envelope: for a chain of
+/// locked hinges, linear in their number. Returns false if `J M⁻¹ Jᵀ` is singular
+/// (redundant locks).
 pub fn constrain_accelerations(
     model: &Model,
     rows: &[Row],
     motions: &[BodyMotion],
-    accel: &mut [Vec3],
-    alpha: &mut [Vec3],
+    dydt: &mut [f64],
     work: &mut Workspace,
 ) -> bool {
     let n = rows.len();
-    // M⁻¹ Jᵀ per row; the angular part as [N b] I⁻¹ [b N] w, without forming I_N⁻¹.
-    let inv_ang = |b: usize, w: &Vec3| {
-        let r = &motions[b].dcm_n_b;
-        r * (model.bodies[b].inertia_inv_in_body * (r.transpose() * w))
-    };
-    work.scaled.clear();
-    for r in rows {
-        work.scaled.push([
-            r.lin_p / model.bodies[r.parent].mass,
-            inv_ang(r.parent, &r.ang_p),
-            r.lin_c / model.bodies[r.child].mass,
-            inv_ang(r.child, &r.ang_c),
+    let bodies = &model.bodies;
+    // Per row and side: the angular part in body components, M⁻¹ Jᵀ (linear: N, angular:
+    // body components, I⁻¹ [b N] j_ω).
+    work.body.clear();
+    work.groups.clear();
+    for (i, r) in rows.iter().enumerate() {
+        let ang_p = motions[r.parent].dcm_n_b.tr_mul(&r.ang_p);
+        let ang_c = motions[r.child].dcm_n_b.tr_mul(&r.ang_c);
+        let (bp, bc) = (&bodies[r.parent], &bodies[r.child]);
+        work.body.push([
+            ang_p,
+            r.lin_p / bp.mass,
+            bp.inertia_inv_in_body * ang_p,
+            ang_c,
+            r.lin_c / bc.mass,
+            bc.inertia_inv_in_body * ang_c,
         ]);
-    }
-    work.matrix.clear();
-    work.matrix.resize(n * n, 0.0);
-    for (r, ra) in rows.iter().enumerate() {
-        for (s, rb) in rows.iter().enumerate().take(r + 1) {
-            let m = &work.scaled[s];
-            let mut v = 0.0;
-            if ra.parent == rb.parent {
-                v += ra.lin_p.dot(&m[0]) + ra.ang_p.dot(&m[1]);
-            }
-            if ra.parent == rb.child {
-                v += ra.lin_p.dot(&m[2]) + ra.ang_p.dot(&m[3]);
-            }
-            if ra.child == rb.parent {
-                v += ra.lin_c.dot(&m[0]) + ra.ang_c.dot(&m[1]);
-            }
-            if ra.child == rb.child {
-                v += ra.lin_c.dot(&m[2]) + ra.ang_c.dot(&m[3]);
-            }
-            work.matrix[r * n + s] = v;
-            work.matrix[s * n + r] = v;
+        match work.groups.last_mut() {
+            Some((start, end)) if rows[*start].parent == r.parent && rows[*start].child == r.child => *end = i + 1,
+            _ => work.groups.push((i, i + 1)),
         }
     }
+    work.first.clear();
+    work.first.resize(n, 0);
+    work.matrix.clear();
+    work.matrix.resize(n * n, 0.0);
+    for (g, &(ga, gb)) in work.groups.iter().enumerate() {
+        let (pa, ca) = (rows[ga].parent, rows[ga].child);
+        let mut first = ga;
+        for &(ha, hb) in work.groups[..=g].iter() {
+            let (pb, cb) = (rows[ha].parent, rows[ha].child);
+            // Which of this hinge's (parent, child) sides meet which of the other's.
+            let meets = [pa == pb, pa == cb, ca == pb, ca == cb];
+            if !meets.iter().any(|m| *m) {
+                continue;
+            }
+            first = first.min(ha);
+            for (r, (ra, ba)) in rows[ga..gb].iter().zip(&work.body[ga..gb]).enumerate().map(|(i, x)| (ga + i, x)) {
+                for (s, bb) in work.body[ha..hb.min(r + 1)].iter().enumerate().map(|(i, x)| (ha + i, x)) {
+                    let mut v = 0.0;
+                    if meets[0] {
+                        v += ra.lin_p.dot(&bb[1]) + ba[0].dot(&bb[2]);
+                    }
+                    if meets[1] {
+                        v += ra.lin_p.dot(&bb[4]) + ba[0].dot(&bb[5]);
+                    }
+                    if meets[2] {
+                        v += ra.lin_c.dot(&bb[1]) + ba[3].dot(&bb[2]);
+                    }
+                    if meets[3] {
+                        v += ra.lin_c.dot(&bb[4]) + ba[3].dot(&bb[5]);
+                    }
+                    work.matrix[r * n + s] = v;
+                }
+            }
+        }
+        work.first[ga..gb].fill(first);
+    }
+    let at = |b: usize, off: usize| {
+        let o = BODY_STATE_LEN * b + off;
+        Vec3::new(dydt[o], dydt[o + 1], dydt[o + 2])
+    };
     work.lambda.clear();
-    work.lambda.extend(rows.iter().map(|r| {
+    work.lambda.extend(rows.iter().zip(&work.body).map(|(r, b)| {
         -(r.gamma
-            + r.lin_p.dot(&accel[r.parent])
-            + r.ang_p.dot(&alpha[r.parent])
-            + r.lin_c.dot(&accel[r.child])
-            + r.ang_c.dot(&alpha[r.child]))
+            + r.lin_p.dot(&at(r.parent, VEL))
+            + b[0].dot(&at(r.parent, OMEGA))
+            + r.lin_c.dot(&at(r.child, VEL))
+            + b[3].dot(&at(r.child, OMEGA)))
     }));
-    if !cholesky_in_place(&mut work.matrix, n) {
+    if !cholesky_in_place(&mut work.matrix, n, &work.first, &mut work.inv_diag) {
         return false;
     }
-    cholesky_solve(&work.matrix, n, &mut work.lambda);
-    for ((row, m), &l) in rows.iter().zip(&work.scaled).zip(&work.lambda) {
-        accel[row.parent] += m[0] * l;
-        alpha[row.parent] += m[1] * l;
-        accel[row.child] += m[2] * l;
-        alpha[row.child] += m[3] * l;
+    cholesky_solve(&work.matrix, n, &work.first, &work.inv_diag, &mut work.lambda);
+    for ((row, b), &l) in rows.iter().zip(&work.body).zip(&work.lambda) {
+        for (body, lin, ang) in [(row.parent, b[1], b[2]), (row.child, b[4], b[5])] {
+            let o = BODY_STATE_LEN * body;
+            for k in 0..3 {
+                dydt[o + VEL + k] += lin[k] * l;
+                dydt[o + OMEGA + k] += ang[k] * l;
+            }
+        }
     }
     true
 }
@@ -380,4 +419,39 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], 
         }
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The envelope Cholesky solve equals a dense solve on an SPD matrix with a staircase
+    /// envelope (rows zero left of `first`), like a chain of locked hinges'.
+    #[test]
+    fn envelope_cholesky_matches_dense() {
+        let n = 9;
+        let first = [0, 0, 0, 1, 1, 3, 3, 3, 6];
+        // A = B Bᵀ + n I with B lower-banded inside the envelope: SPD, and zero outside.
+        let b = DMatrix::from_fn(
+            n,
+            n,
+            |i, j| if j <= i && j >= first[i] { 1.0 + ((i * 7 + j * 3) % 5) as f64 } else { 0.0 },
+        );
+        let mut dense = &b * b.transpose() + DMatrix::identity(n, n) * n as f64;
+        for i in 0..n {
+            for j in 0..first[i] {
+                dense[(i, j)] = 0.0;
+                dense[(j, i)] = 0.0;
+            }
+        }
+        let rhs = DVector::from_fn(n, |i, _| (i as f64).sin());
+        let expected = dense.clone().cholesky().expect("SPD").solve(&rhs);
+        let mut a: Vec<f64> = (0..n * n).map(|k| dense[(k / n, k % n)]).collect();
+        let mut inv_diag = Vec::new();
+        assert!(cholesky_in_place(&mut a, n, &first, &mut inv_diag));
+        let mut x: Vec<f64> = rhs.iter().copied().collect();
+        cholesky_solve(&a, n, &first, &inv_diag, &mut x);
+        let err = x.iter().zip(expected.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-14, "{err}");
+    }
 }

@@ -6,9 +6,11 @@
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
 
-use crate::constraints::{Lock, Row, Workspace, constrain_accelerations, euler_index, independent, project, rows_from};
+use crate::constraints::{
+    Lock, Row, Workspace, constrain_accelerations, euler_index, hinge_rows, independent, project,
+};
 use crate::law::{EventKind, HingeState, HingeWrench, LawMemory};
-use crate::math::{Euler321, Mat3, Vec3, quat_rate};
+use crate::math::{Euler321, EulerTrig, Mat3, Vec3, quat_rate};
 use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
 use std::cell::{Cell, RefCell};
@@ -51,7 +53,14 @@ pub fn hinge_kinematics(h: &Hinge, parent: &BodyMotion, child: &BodyMotion, thet
     let delta_rate_in_a0 = dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n));
     let omega_rel_in_a = dcm_n_a.transpose() * (child.omega_in_n - parent.omega_in_n);
     HingeKinematics {
-        state: HingeState { delta_in_a0, delta_rate_in_a0, theta, dcm_a_a0, omega_rel_in_a },
+        state: HingeState {
+            delta_in_a0,
+            delta_rate_in_a0,
+            theta,
+            dcm_a_a0,
+            omega_rel_in_a,
+            trig: EulerTrig::from_dcm(&dcm_a_a0),
+        },
         dcm_n_a0,
         dcm_n_a,
         arm_parent_in_n: arm_parent,
@@ -65,11 +74,8 @@ struct Scratch {
     motions: Vec<BodyMotion>,
     force_in_n: Vec<Vec3>,
     torque_in_n: Vec<Vec3>,
-    /// Per hinge, kept only when some direction is locked.
-    kinematics: Vec<Option<HingeKinematics>>,
+    /// The locks' constraint rows at this state.
     rows: Vec<Row>,
-    accel: Vec<Vec3>,
-    alpha: Vec<Vec3>,
     work: Workspace,
 }
 
@@ -84,9 +90,10 @@ pub struct Dynamics<'m> {
     model: &'m Model,
     theta_refs: RefCell<Vec<Euler321>>,
     memories: RefCell<Vec<LawMemory>>,
+    /// Locked directions, grouped by hinge in hinge order.
     locks: RefCell<Vec<Lock>>,
-    /// Per hinge: whether it has a locked direction (its kinematics feed the constraints).
-    locked_hinge: Vec<bool>,
+    /// Per hinge: its locks' index range in `locks` (empty if none).
+    lock_ranges: RefCell<Vec<std::ops::Range<usize>>>,
     event_offsets: Vec<usize>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
@@ -126,16 +133,13 @@ impl<'m> Dynamics<'m> {
             theta_refs: RefCell::new(theta_refs),
             memories: RefCell::new(vec![LawMemory::default(); model.hinges.len()]),
             locks: RefCell::new(Vec::new()),
-            locked_hinge: model.hinges.iter().map(|h| h.law.locked_directions().iter().any(|l| *l)).collect(),
+            lock_ranges: RefCell::new(vec![0..0; model.hinges.len()]),
             event_offsets,
             scratch: RefCell::new(Scratch {
                 motions: vec![BodyMotion::default(); nb],
                 force_in_n: vec![Vec3::zeros(); nb],
                 torque_in_n: vec![Vec3::zeros(); nb],
-                kinematics: vec![None; model.hinges.len()],
                 rows: Vec::new(),
-                accel: vec![Vec3::zeros(); nb],
-                alpha: vec![Vec3::zeros(); nb],
                 work: Workspace::default(),
             }),
             evaluations: Cell::new(0),
@@ -191,16 +195,20 @@ impl<'m> Dynamics<'m> {
     pub fn initialize_memory(&self, y: &[f64]) {
         let mut mem = vec![LawMemory::default(); self.model.hinges.len()];
         let mut locks = Vec::new();
+        let mut ranges = vec![0..0; self.model.hinges.len()];
         self.each_hinge(y, |i, k| {
             let law = &self.model.hinges[i].law;
             mem[i] = law.initial_memory(&k.state);
+            let first = locks.len();
             for (d, _) in law.locked_directions().iter().enumerate().filter(|(_, l)| **l) {
                 let target = if d < 3 { k.state.delta_in_a0[d] } else { k.state.theta.as_vector()[euler_index(d)] };
                 locks.push(Lock { hinge: i, direction: d, target });
             }
+            ranges[i] = first..locks.len();
         });
         *self.memories.borrow_mut() = mem;
         *self.locks.borrow_mut() = locks;
+        *self.lock_ranges.borrow_mut() = ranges;
     }
 
     /// Total linear momentum (kg·m/s) and angular momentum about N's origin (kg·m²/s), N
@@ -380,18 +388,20 @@ impl<'m> Dynamics<'m> {
         let refs = self.theta_refs.borrow();
         let memories = self.memories.borrow();
         let mut scratch = self.scratch.borrow_mut();
-        let Scratch { motions, force_in_n, torque_in_n, kinematics, rows, accel, alpha, work } = &mut *scratch;
+        let Scratch { motions, force_in_n, torque_in_n, rows, work } = &mut *scratch;
         let locks = self.locks.borrow();
-        let keep = !locks.is_empty();
+        let lock_ranges = self.lock_ranges.borrow();
         for (i, m) in motions.iter_mut().enumerate() {
             *m = BodyMotion::from_state(y, i);
         }
         force_in_n.iter_mut().for_each(|f| *f = Vec3::zeros());
         torque_in_n.iter_mut().for_each(|t| *t = Vec3::zeros());
+        rows.clear();
 
         let diss0 = BODY_STATE_LEN * model.bodies.len();
         for (i, (h, theta_ref)) in model.hinges.iter().zip(refs.iter()).enumerate() {
-            let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], theta_ref);
+            let (p, c) = (&motions[h.parent], &motions[h.child]);
+            let k = hinge_kinematics(h, p, c, theta_ref);
             let memory = &memories[i];
             let (HingeWrench { force_in_a0, torque_in_a }, power) = h.law.wrench_and_dissipation(&k.state, memory);
             dydt[diss0 + i] = power;
@@ -401,52 +411,31 @@ impl<'m> Dynamics<'m> {
             torque_in_n[h.parent] += k.arm_parent_in_n.cross(&f_n) + tau_n;
             force_in_n[h.child] -= f_n;
             torque_in_n[h.child] -= k.arm_child_in_n.cross(&f_n) + tau_n;
-            if keep && self.locked_hinge[i] {
-                kinematics[i] = Some(k);
+            let range = lock_ranges[i].clone();
+            if !range.is_empty() {
+                hinge_rows(h, &locks[range], p, c, &k, rows);
             }
         }
 
-        if locks.is_empty() {
-            for (i, body) in model.bodies.iter().enumerate() {
-                let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
-                let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
-                let m = &motions[i];
-                let omega_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
-                d[POS..POS + 3].copy_from_slice(&s[VEL..VEL + 3]);
-                d[QUAT..QUAT + 4].copy_from_slice(&quat_rate(&s[QUAT..QUAT + 4], &omega_b));
-                let a = force_in_n[i] / body.mass;
-                d[VEL..VEL + 3].copy_from_slice(a.as_slice());
-                // Euler's equation in body components: I ω̇ = τ − ω × I ω.
-                let tau_b = m.dcm_n_b.transpose() * torque_in_n[i];
-                let i_omega = body.inertia_in_body * omega_b;
-                let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&i_omega));
-                d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
-            }
-            return;
-        }
-        // With locked directions: free accelerations in N components, then the constraint
-        // correction (crate::constraints).
-        let nb = model.bodies.len();
         for (i, body) in model.bodies.iter().enumerate() {
-            let m = &motions[i];
-            let omega_b = m.omega_in_body();
-            let tau_b = m.dcm_n_b.transpose() * torque_in_n[i];
-            let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&(body.inertia_in_body * omega_b)));
-            accel[i] = force_in_n[i] / body.mass;
-            alpha[i] = m.dcm_n_b * omega_dot;
-        }
-        rows_from(model, &locks, motions, |h| kinematics[h].as_ref().expect("kept for locked hinges"), rows);
-        // A singular system (redundant locks) is refused when the run starts.
-        let _ = constrain_accelerations(model, rows, motions, accel, alpha, work);
-        for i in 0..nb {
             let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
             let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+            let m = &motions[i];
             let omega_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
             d[POS..POS + 3].copy_from_slice(&s[VEL..VEL + 3]);
             d[QUAT..QUAT + 4].copy_from_slice(&quat_rate(&s[QUAT..QUAT + 4], &omega_b));
-            d[VEL..VEL + 3].copy_from_slice(accel[i].as_slice());
-            let omega_dot = motions[i].dcm_n_b.transpose() * alpha[i];
+            let a = force_in_n[i] / body.mass;
+            d[VEL..VEL + 3].copy_from_slice(a.as_slice());
+            // Euler's equation in body components: I ω̇ = τ − ω × I ω.
+            let tau_b = m.dcm_n_b.tr_mul(&torque_in_n[i]);
+            let i_omega = body.inertia_in_body * omega_b;
+            let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&i_omega));
             d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
+        }
+        if !rows.is_empty() {
+            // Locked directions: the constraint correction (crate::constraints). A singular
+            // system (redundant locks) is refused when the run starts.
+            let _ = constrain_accelerations(model, rows, motions, dydt, work);
         }
     }
 }

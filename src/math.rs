@@ -98,20 +98,89 @@ impl Euler321 {
         Vec3::new(self.roll, self.pitch, self.yaw)
     }
 
+    /// Sines and cosines of pitch and roll.
+    pub fn trig(self) -> EulerTrig {
+        EulerTrig::from_angles(&self)
+    }
+
     /// Euler-rate matrix `B(θ)`: `ω = B(θ) θ̇`, ω of X relative to Y in X components
     /// (MODEL.md §1).
     pub fn rate_matrix(self) -> Mat3 {
-        let (s2, c2) = self.pitch.sin_cos();
-        let (s3, c3) = self.roll.sin_cos();
+        self.trig().rate_matrix()
+    }
+
+    /// Solves `B(θ)ᵀ τ = g` for τ in closed form (see [`EulerTrig::torque_from_generalized`]).
+    pub fn torque_from_generalized(self, g: &Vec3) -> Vec3 {
+        self.trig().torque_from_generalized(g)
+    }
+
+    /// Euler-angle rates `θ̇ = B(θ)⁻¹ ω` (see [`EulerTrig::rates_from_omega`]).
+    pub fn rates_from_omega(self, omega: &Vec3) -> Vec3 {
+        self.trig().rates_from_omega(omega)
+    }
+
+    /// Whether pitch is within `margin` rad of ±π/2, where every 3-2-1 law is singular.
+    pub fn near_gimbal_lock(self, margin: f64) -> bool {
+        self.pitch.abs() > PI / 2.0 - margin
+    }
+}
+
+/// Sines and cosines of the 3-2-1 pitch θ2 and roll θ3: all that the Euler-rate matrix
+/// `B(θ)` depends on. Read straight from the DCM when the angles come from one (no
+/// trigonometric calls on the right-hand side's hot path).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EulerTrig {
+    /// sin θ2.
+    pub s2: f64,
+    /// cos θ2 (≥ 0: pitch lies in [−π/2, π/2]).
+    pub c2: f64,
+    /// sin θ3.
+    pub s3: f64,
+    /// cos θ3.
+    pub c3: f64,
+}
+
+impl Default for EulerTrig {
+    fn default() -> Self {
+        Self { s2: 0.0, c2: 1.0, s3: 0.0, c3: 1.0 }
+    }
+}
+
+impl EulerTrig {
+    /// From the angles.
+    pub fn from_angles(theta: &Euler321) -> Self {
+        let (s2, c2) = theta.pitch.sin_cos();
+        let (s3, c3) = theta.roll.sin_cos();
+        Self { s2, c2, s3, c3 }
+    }
+
+    /// From the DCM `[XY] = M1(θ3) M2(θ2) M3(θ1)` whose angles [`Euler321::from_dcm`] gives
+    /// (row 0 = (c2 c1, c2 s1, −s2), elements (1, 2) = s3 c2 and (2, 2) = c3 c2). Equal to
+    /// [`Self::from_angles`] of those angles to round-off; roll's whole turns do not matter.
+    pub fn from_dcm(dcm: &Mat3) -> Self {
+        let s2 = -dcm[(0, 2)].clamp(-1.0, 1.0);
+        let c2 = dcm[(0, 0)].hypot(dcm[(0, 1)]);
+        let r = dcm[(1, 2)].hypot(dcm[(2, 2)]);
+        if r > 0.0 {
+            Self { s2, c2, s3: dcm[(1, 2)] / r, c3: dcm[(2, 2)] / r }
+        } else {
+            // Pitch ±π/2 exactly: roll is undefined, and so is every law there.
+            Self { s2, c2, s3: 0.0, c3: 1.0 }
+        }
+    }
+
+    /// Euler-rate matrix `B(θ)`: `ω = B(θ) θ̇`, ω of X relative to Y in X components
+    /// (MODEL.md §1).
+    pub fn rate_matrix(&self) -> Mat3 {
+        let Self { s2, c2, s3, c3 } = *self;
         Mat3::new(-s2, 0.0, 1.0, s3 * c2, c3, 0.0, c3 * c2, -s3, 0.0)
     }
 
     /// Solves `B(θ)ᵀ τ = g` for τ in closed form. `g` is a generalized force on `θ = [θ1, θ2,
     /// θ3]`; τ is the torque (X components) whose virtual work on ω equals `g · δθ`.
     /// Singular at pitch ±π/2, where the result is not finite.
-    pub fn torque_from_generalized(self, g: &Vec3) -> Vec3 {
-        let (s2, c2) = self.pitch.sin_cos();
-        let (s3, c3) = self.roll.sin_cos();
+    pub fn torque_from_generalized(&self, g: &Vec3) -> Vec3 {
+        let Self { s2, c2, s3, c3 } = *self;
         // Bᵀ = [[−s2, s3 c2, c3 c2], [0, c3, −s3], [1, 0, 0]].
         let t1 = g.z;
         let h = (g.x + s2 * g.z) / c2; // = s3 τ2 + c3 τ3
@@ -122,16 +191,10 @@ impl Euler321 {
 
     /// Euler-angle rates `θ̇ = B(θ)⁻¹ ω` for ω of X relative to Y in X components, rad/s
     /// (MODEL.md §1). Singular at pitch ±π/2.
-    pub fn rates_from_omega(self, omega: &Vec3) -> Vec3 {
-        let (s2, c2) = self.pitch.sin_cos();
-        let (s3, c3) = self.roll.sin_cos();
+    pub fn rates_from_omega(&self, omega: &Vec3) -> Vec3 {
+        let Self { s2, c2, s3, c3 } = *self;
         let yaw_rate = (s3 * omega.y + c3 * omega.z) / c2;
         Vec3::new(yaw_rate, c3 * omega.y - s3 * omega.z, omega.x + s2 * yaw_rate)
-    }
-
-    /// Whether pitch is within `margin` rad of ±π/2, where every 3-2-1 law is singular.
-    pub fn near_gimbal_lock(self, margin: f64) -> bool {
-        self.pitch.abs() > PI / 2.0 - margin
     }
 }
 
@@ -220,6 +283,20 @@ pub fn quat_rate(q: &[f64], omega_in_body: &Vec3) -> [f64; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The trigonometric values read from a DCM equal those of its angles (round-off), for
+    /// rolls beyond ±π (whole turns do not matter) and pitch near ±π/2.
+    #[test]
+    fn trig_from_dcm_matches_angles() {
+        for e in [Euler321::new(0.3, -0.7, 2.1), Euler321::new(-2.9, 1.5, -3.1), Euler321::new(1.0, -1.57, 0.4)] {
+            let a = EulerTrig::from_angles(&e);
+            let b = EulerTrig::from_dcm(&e.to_dcm());
+            let d = [a.s2 - b.s2, a.c2 - b.c2, a.s3 - b.s3, a.c3 - b.c3];
+            assert!(d.iter().all(|x| x.abs() < 1e-12), "{e:?}: {d:?}");
+            let wound = Euler321::new(e.yaw, e.pitch, e.roll + 4.0 * PI);
+            assert!((EulerTrig::from_dcm(&wound.to_dcm()).s3 - a.s3).abs() < 1e-12);
+        }
+    }
 
     #[test]
     fn dcm_matches_elementary_product() {

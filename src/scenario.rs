@@ -136,15 +136,44 @@ struct RawLaw {
     c_f: Option<Spanned<toml::Value>>,
     c_theta: Option<Spanned<toml::Value>>,
     angles: Option<Spanned<String>>,
-    x: Option<Spanned<RawDirection>>,
-    y: Option<Spanned<RawDirection>>,
-    z: Option<Spanned<RawDirection>>,
-    rx: Option<Spanned<RawDirection>>,
-    ry: Option<Spanned<RawDirection>>,
-    rz: Option<Spanned<RawDirection>>,
+    x: Option<Spanned<DirectionEntry>>,
+    y: Option<Spanned<DirectionEntry>>,
+    z: Option<Spanned<DirectionEntry>>,
+    rx: Option<Spanned<DirectionEntry>>,
+    ry: Option<Spanned<DirectionEntry>>,
+    rz: Option<Spanned<DirectionEntry>>,
 }
 
-#[derive(Deserialize)]
+/// One direction of a directional law: a table of keys, or the shorthand word `"free"` or
+/// `"locked"`.
+struct DirectionEntry(RawDirection);
+
+impl<'de> Deserialize<'de> for DirectionEntry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Entry;
+        impl<'de> serde::de::Visitor<'de> for Entry {
+            type Value = DirectionEntry;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    "\"free\", \"locked\" or a table of response keys such as { k = 100.0 } (docs/hinge-laws.md)",
+                )
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<DirectionEntry, E> {
+                match v {
+                    "free" => Ok(DirectionEntry(RawDirection { free: Some(true), ..Default::default() })),
+                    "locked" => Ok(DirectionEntry(RawDirection { locked: Some(true), ..Default::default() })),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<DirectionEntry, A::Error> {
+                RawDirection::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(DirectionEntry)
+            }
+        }
+        d.deserialize_any(Entry)
+    }
+}
+
+#[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawDirection {
     free: Option<bool>,
@@ -789,9 +818,9 @@ fn direction(
     hinge: &str,
     name: &str,
     rotational: bool,
-    d: &Spanned<RawDirection>,
+    d: &Spanned<DirectionEntry>,
 ) -> Result<Direction, ScenarioError> {
-    let r = d.get_ref();
+    let r = &d.get_ref().0;
     let here = |m: String| ctx.span(d, format!("hinge '{hinge}' law.{name}: {m}"));
     let (unit, rate_unit) = if rotational { ("N·m/rad", "N·m·s/rad") } else { ("N/m", "N·s/m") };
     let given = [

@@ -276,6 +276,14 @@ fn bad_directional_laws() {
         Some("directional"),
         &["rz", "exactly one"],
     );
+    // The shorthand words are "free" and "locked"; anything else names what is valid.
+    expect_error(
+        with(directional(&six.replace("ry = { k = 1.0 }", "ry = \"lockd\""))),
+        Some("directional"),
+        &["lockd", "\"free\"", "\"locked\"", "k = "],
+    );
+    let shorthand = GOOD.replacen(law, &directional(&six.replace("ry = { k = 1.0 }", "ry = \"free\"")), 1);
+    assert!(Scenario::from_toml(&shorthand, "ok.toml").is_ok(), "ry = \"free\" is valid");
     expect_error(
         with(directional(&six.replace("rz = { k = 1.0 }", "rz = { k = 1.0, rest_degrees = 3.0 }"))),
         Some("directional"),

@@ -255,7 +255,7 @@ impl DirectionalLaw {
         match self.angles {
             Angles::Euler => {
                 let phi = s.theta.phi();
-                let rate = s.theta.rates_from_omega(&s.omega_rel_in_a);
+                let rate = s.trig.rates_from_omega(&s.omega_rel_in_a);
                 ([d.x, d.y, d.z, phi.x, phi.y, phi.z], [dd.x, dd.y, dd.z, rate.z, rate.y, rate.x], None)
             }
             Angles::RotationVector => {
@@ -311,7 +311,7 @@ impl HingeLaw for DirectionalLaw {
         }
         let g_rot = Vec3::new(f[3], f[4], f[5]);
         let torque_in_a = match j_inv {
-            None => state.theta.torque_from_generalized(&Vec3::new(f[5], f[4], f[3])),
+            None => state.trig.torque_from_generalized(&Vec3::new(f[5], f[4], f[3])),
             Some(j_inv) => j_inv.transpose() * g_rot,
         };
         (HingeWrench { force_in_a0: Vec3::new(f[0], f[1], f[2]), torque_in_a }, p)

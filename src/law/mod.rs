@@ -12,7 +12,7 @@
 pub mod directional;
 pub mod table;
 
-use crate::math::{Euler321, Mat3, Vec3, rotation_vector, rotation_vector_rate_matrix_inverse};
+use crate::math::{Euler321, EulerTrig, Mat3, Vec3, rotation_vector, rotation_vector_rate_matrix_inverse};
 use std::fmt::Debug;
 
 /// Relative state of one hinge (MODEL.md §2).
@@ -28,6 +28,8 @@ pub struct HingeState {
     pub dcm_a_a0: Mat3,
     /// `ω_{A/A0}` in A components, rad/s.
     pub omega_rel_in_a: Vec3,
+    /// Sines and cosines of θ's pitch and roll (what `B(θ)` needs), from `[A A0]`.
+    pub trig: EulerTrig,
 }
 
 impl Default for HingeState {
@@ -38,6 +40,7 @@ impl Default for HingeState {
             theta: Euler321::default(),
             dcm_a_a0: Mat3::identity(),
             omega_rel_in_a: Vec3::zeros(),
+            trig: EulerTrig::default(),
         }
     }
 }
@@ -45,7 +48,7 @@ impl Default for HingeState {
 impl HingeState {
     /// A state at rest with the given displacement and angles (for tests and tools).
     pub fn at(delta_in_a0: Vec3, theta: Euler321) -> Self {
-        Self { delta_in_a0, theta, dcm_a_a0: theta.to_dcm(), ..Default::default() }
+        Self { delta_in_a0, theta, dcm_a_a0: theta.to_dcm(), trig: theta.trig(), ..Default::default() }
     }
 }
 
@@ -221,7 +224,7 @@ impl LinearGains {
     /// Rate of the quadratic form `½ δᵀK_Fδ + ½ φᵀK_θφ`, W.
     fn spring_energy_rate(&self, state: &HingeState) -> f64 {
         let sym = |m: &Mat3| (m + m.transpose()) * 0.5;
-        let theta_rate = state.theta.rates_from_omega(&state.omega_rel_in_a);
+        let theta_rate = state.trig.rates_from_omega(&state.omega_rel_in_a);
         let phi_rate = Vec3::new(theta_rate.z, theta_rate.y, theta_rate.x);
         let phi = state.theta.phi();
         state.delta_in_a0.dot(&(sym(&self.k_f) * state.delta_rate_in_a0)) + phi.dot(&(sym(&self.k_theta) * phi_rate))
@@ -285,7 +288,7 @@ impl HingeLaw for EulerPotential {
         let dv_dtheta = Vec3::new(k_phi.z, k_phi.y, k_phi.x);
         HingeWrench {
             force_in_a0: g.k_f * state.delta_in_a0 + g.damping_force(state),
-            torque_in_a: state.theta.torque_from_generalized(&dv_dtheta) + g.damping_torque(state),
+            torque_in_a: state.trig.torque_from_generalized(&dv_dtheta) + g.damping_torque(state),
         }
     }
 

@@ -1,0 +1,144 @@
+//! Cost of locked hinge directions against the same hinges with those directions free
+//! (the hinge-law issue: a lock must not make a run slower than leaving the direction free).
+//!
+//! Cases, built from the shipped examples by changing only the named directions:
+//! - `examples/zfold-tape-latch.toml`, 10 s: the z translation (out of plane) locked vs free,
+//!   and all three out-of-plane directions (z, rx, ry) locked vs free. The deployment is
+//!   planar, so both variants follow the same motion.
+//! - `examples/hinged-panels-1dof.toml`, 300 s: five directions locked vs free (free, the
+//!   panels drift apart: a different motion, reported for completeness).
+//!
+//! For each: the cost of one right-hand-side evaluation at the initial state, and the
+//! whole run's wall time (median of alternating repetitions), with the RHS count; ratios
+//! are to the free variant. A third variant, `stiff`, replaces the lock by the stiff spring
+//! a user would otherwise model a rigid direction with (2e5 N/m, 2e3 N·m/rad, damped, as
+//! the z-fold example's off-axis directions; one run).
+//! Prints the machine's load average, since these machines are shared.
+//! Run: `cargo bench --bench locks` (add `-- --quick` for a short pass).
+
+use foldsim::dynamics::Dynamics;
+use foldsim::init::initial_state;
+use foldsim::scenario::Scenario;
+use foldsim::simulate::simulate;
+use std::path::Path;
+use std::time::Instant;
+
+fn load() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_default()
+}
+
+/// The example `file` with every hinge's `directions` set to `response` (`free`, `locked`,
+/// or `stiff`: 2e5 N/m and 2e3 N·m/rad with the z-fold example's damping, the springs that
+/// example uses for its off-axis directions) and the run cut to `duration` s.
+fn variant(file: &str, directions: &[&str], response: &str, duration: f64) -> Scenario {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let text = std::fs::read_to_string(examples.join(file)).expect("example exists");
+    let mut out = String::new();
+    for line in text.lines() {
+        let key = line.split('=').next().unwrap_or("").trim();
+        if directions.contains(&key) && line.trim_start().starts_with(key) {
+            let spring = if key.starts_with('r') { "k = 2e3, damping = 0.5" } else { "k = 2e5, damping = 20.0" };
+            let r = if response == "stiff" { spring.to_string() } else { format!("{response} = true") };
+            out.push_str(&format!("{key} = {{ {r} }}\n"));
+        } else if key == "duration" {
+            out.push_str(&format!("duration = {duration}\n"));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    Scenario::from_toml_in(&out, file, &examples).expect("variant is valid")
+}
+
+/// Seconds per right-hand-side evaluation at the scenario's initial state.
+fn rhs_cost(s: &Scenario, budget: f64) -> f64 {
+    let (y, refs) = initial_state(&s.model, &s.initial);
+    let dynamics = Dynamics::new(&s.model, refs);
+    dynamics.initialize_memory(&y);
+    let mut dydt = vec![0.0; y.len()];
+    let (mut evals, start) = (0u64, Instant::now());
+    while start.elapsed().as_secs_f64() < budget {
+        for _ in 0..64 {
+            dynamics.rhs(std::hint::black_box(&y), &mut dydt);
+        }
+        evals += 64;
+    }
+    std::hint::black_box(&dydt);
+    start.elapsed().as_secs_f64() / evals as f64
+}
+
+/// Wall time (s) and RHS evaluations of one whole run.
+fn run(s: &Scenario) -> (f64, u64) {
+    let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
+    let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
+    (r.wall_seconds, r.rhs_evaluations)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick") || !std::env::args().any(|a| a == "--bench");
+    let (budget, reps) = if quick { (0.05, 1) } else { (0.5, 7) };
+    println!("foldsim locks bench (load average {})", load());
+    println!(
+        "{:<34} {:>7} {:>12} {:>12} {:>10} {:>12} {:>8}",
+        "case", "variant", "µs/rhs", "rhs ratio", "rhs evals", "run wall s", "ratio"
+    );
+    let cases: [(&str, &str, &[&str], f64); 3] = [
+        ("zfold-tape-latch, z", "zfold-tape-latch.toml", &["z"], 10.0),
+        ("zfold-tape-latch, z rx ry", "zfold-tape-latch.toml", &["z", "rx", "ry"], 10.0),
+        ("hinged-panels-1dof, x y z rx ry", "hinged-panels-1dof.toml", &["x", "y", "z", "rx", "ry"], 300.0),
+    ];
+    // `-- --profile CASE_INDEX free|locked`: only that case's RHS loop, for a profiler.
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "--profile") {
+        let (_, file, dirs, duration) = cases[args[i + 1].parse::<usize>().expect("case index")];
+        let s = variant(file, dirs, &args[i + 2], duration);
+        println!("{:.3} µs/rhs", rhs_cost(&s, 3.0) * 1e6);
+        return;
+    }
+    for (name, file, dirs, duration) in cases {
+        let free = variant(file, dirs, "free", duration);
+        let locked = variant(file, dirs, "locked", duration);
+        let stiff = variant(file, dirs, "stiff", duration);
+        let (mut cost_free, mut cost_locked) = (Vec::new(), Vec::new());
+        let (mut wall_free, mut wall_locked) = (Vec::new(), Vec::new());
+        let (mut n_free, mut n_locked) = (0, 0);
+        let (cost_stiff, (wall_stiff, n_stiff)) = (rhs_cost(&stiff, budget), run(&stiff));
+        for _ in 0..reps {
+            cost_free.push(rhs_cost(&free, budget));
+            cost_locked.push(rhs_cost(&locked, budget));
+            let (w, n) = run(&free);
+            wall_free.push(w);
+            n_free = n;
+            let (w, n) = run(&locked);
+            wall_locked.push(w);
+            n_locked = n;
+        }
+        let (cf, cl) = (median(cost_free), median(cost_locked));
+        let (wf, wl) = (median(wall_free), median(wall_locked));
+        println!("{name:<34} {:>7} {:>12.3} {:>12} {n_free:>10} {wf:>12.4} {:>8}", "free", cf * 1e6, "", "");
+        println!(
+            "{:<34} {:>7} {:>12.3} {:>12.3} {n_locked:>10} {wl:>12.4} {:>8.3}",
+            "",
+            "locked",
+            cl * 1e6,
+            cl / cf,
+            wl / wf
+        );
+        println!(
+            "{:<34} {:>7} {:>12.3} {:>12.3} {n_stiff:>10} {wall_stiff:>12.4} {:>8.3}",
+            "",
+            "stiff",
+            cost_stiff * 1e6,
+            cost_stiff / cf,
+            wall_stiff / wf
+        );
+    }
+    println!("\nload average after: {}", load());
+}

@@ -3,10 +3,12 @@
 //! with stiff off-axis hinges:
 //! - one right-hand-side evaluation, per hinge, for N = 1 … 4096 panels;
 //! - wall time per simulated second with the explicit (DOP853) and implicit (SDIRK4) paths at
-//!   rtol = atol = 1e-6 with 1e7 N/m off-axis hinges, for the smaller sizes.
+//!   rtol = atol = 1e-6 with 1e7 N/m off-axis hinges, 0.1 s from release, for the same N,
+//!   with the hinge-angle accuracy each reached (against a 1000× tighter run, N ≤ 256).
 //!
 //! Prints the machine's load average beside the figures, since these machines are shared.
-//! Run: `cargo bench --bench rhs` (add `-- --quick` for a short pass).
+//! Run: `cargo bench --bench rhs` (about 10 minutes on 2 cores). Options after `--`:
+//! `--quick` (short budgets and windows), `--rhs` or `--wall` (one section), `--max N`.
 
 use foldsim::dynamics::Dynamics;
 use foldsim::generate::{Params, grid, zfold};
@@ -34,18 +36,66 @@ fn structure(kind: &str, n: usize, p: &Params) -> Scenario {
     Scenario::from_toml(&text, kind).expect("generated scenarios are valid")
 }
 
+/// Max over the run's output rows of every hinge angle's distance to `reference`'s at the
+/// same row, rad; or the rows' hinge angles when `reference` is None.
+type Angles = Vec<Vec<[f64; 3]>>;
+
+/// Runs `s` with `method`, returning the report and the hinge angles at every output row.
+fn timed_run(s: &Scenario, method: &str, tolerance: f64) -> (foldsim::simulate::RunReport, Angles) {
+    let mut settings = s.settings.clone();
+    settings.integrator = match method {
+        "sdirk4" => foldsim::simulate::Integrator::Sdirk4 { rtol: tolerance, atol: tolerance },
+        _ => foldsim::simulate::Integrator::Dop853 { rtol: tolerance, atol: tolerance },
+    };
+    let mut rows: Angles = Vec::new();
+    let mut sink = |o: &foldsim::observe::Observation| -> Result<(), String> {
+        rows.push(o.hinge_theta.iter().map(|t| [t.yaw, t.pitch, t.roll]).collect());
+        Ok(())
+    };
+    let r = simulate(&s.model, &s.initial, &settings, &mut sink, None).expect("runs");
+    (r, rows)
+}
+
+fn max_angle_error(a: &Angles, b: &Angles) -> f64 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(ra, rb)| ra.iter().zip(rb))
+        .flat_map(|(x, y)| (0..3).map(move |k| (x[k] - y[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick") || !std::env::args().any(|a| a == "--bench");
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick") || !args.iter().any(|a| a == "--bench");
+    let max_n: usize = args
+        .iter()
+        .position(|a| a == "--max")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(4096);
+    let only_wall = args.iter().any(|a| a == "--wall");
+    let only_rhs = args.iter().any(|a| a == "--rhs");
+    let sizes: Vec<usize> = [1usize, 4, 16, 64, 256, 1024, 4096].into_iter().filter(|n| *n <= max_n).collect();
     let p = Params { duration: 0.2, ..Params::default() };
     println!("foldsim bench (load average {})", load());
+    if !only_wall {
+        rhs_section(&sizes, &p, quick);
+    }
+    if !only_rhs {
+        wall_section(&sizes, quick);
+    }
+    println!("\nload average after: {}", load());
+}
+
+fn rhs_section(sizes: &[usize], p: &Params, quick: bool) {
     println!("\nright-hand-side evaluation, law 2, k_translation 1e6 N/m, k_bending 1e3 N·m/rad, k_fold 1 N·m/rad");
     println!("{:>6} {:>6} {:>7} {:>6} {:>12} {:>12}", "shape", "panels", "hinges", "loops", "µs/eval", "ns/hinge");
     for kind in ["chain", "grid"] {
-        for n in [1usize, 4, 16, 64, 256, 1024, 4096] {
+        for &n in sizes {
             if kind == "grid" && n < 4 {
                 continue;
             }
-            let s = structure(kind, n, &p);
+            let s = structure(kind, n, p);
             let model = &s.model;
             let (mut y, refs) = initial_state(model, &s.initial);
             for (i, v) in y.iter_mut().enumerate() {
@@ -74,33 +124,49 @@ fn main() {
             std::hint::black_box(&dydt);
         }
     }
-    let p = Params { duration: 2.0, tolerance: 1e-6, k_translation: 1e7, k_bending: 1e4, ..p };
+}
+
+/// Wall time per simulated second for both paths, with the accuracy each reached: the max
+/// hinge-angle difference, over the output rows, to a DOP853 run at a 1000× tighter
+/// tolerance (for N ≤ 256; larger references would dominate the bench's time).
+fn wall_section(sizes: &[usize], quick: bool) {
+    let tolerance = 1e-6;
+    let duration = if quick { 0.01 } else { 1.0 };
+    let p = Params {
+        duration,
+        output_step: duration / 10.0,
+        tolerance,
+        k_translation: 1e7,
+        k_bending: 1e4,
+        ..Params::default()
+    };
     println!(
-        "\nwall time per simulated second, rtol = atol = {:e}, {} s simulated, k_translation 1e7 N/m, k_bending 1e4 N·m/rad",
-        p.tolerance, p.duration
+        "\nwall time per simulated second, rtol = atol = {tolerance:e}, {duration} s simulated from release, \
+         k_translation 1e7 N/m, k_bending 1e4 N·m/rad, k_fold 1 N·m/rad, 2 kg panels"
     );
     println!(
-        "{:>6} {:>6} {:>8} {:>10} {:>10} {:>14}",
-        "shape", "panels", "method", "steps", "rhs evals", "wall s / sim s"
+        "{:>6} {:>6} {:>8} {:>8} {:>10} {:>14} {:>16} {:>14}",
+        "shape", "panels", "method", "steps", "rhs evals", "wall s / sim s", "µs / (step·body)", "angle err rad"
     );
     for kind in ["chain", "grid"] {
-        for n in [4usize, 16, 64] {
+        for &n in sizes {
+            if kind == "grid" && n < 4 {
+                continue;
+            }
+            let s = structure(kind, n, &p);
+            let reference = (n <= 256).then(|| timed_run(&s, "dop853", tolerance * 1e-3).1);
             for method in ["dop853", "sdirk4"] {
-                let mut s = structure(kind, n, &p);
-                if method == "sdirk4" {
-                    s.settings.integrator =
-                        foldsim::simulate::Integrator::Sdirk4 { rtol: p.tolerance, atol: p.tolerance };
-                }
-                let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
-                let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
+                let (r, rows) = timed_run(&s, method, tolerance);
+                let err =
+                    reference.as_ref().map(|rf| format!("{:.1e}", max_angle_error(&rows, rf))).unwrap_or("–".into());
                 println!(
-                    "{kind:>6} {n:>6} {method:>8} {:>10} {:>10} {:>14.4}",
+                    "{kind:>6} {n:>6} {method:>8} {:>8} {:>10} {:>14.3} {:>16.2} {err:>14}",
                     r.steps_accepted,
                     r.rhs_evaluations,
-                    r.wall_seconds / s.settings.duration
+                    r.wall_seconds / duration,
+                    r.wall_seconds * 1e6 / (r.steps_accepted.max(1) * s.model.bodies.len()) as f64
                 );
             }
         }
     }
-    println!("\nload average after: {}", load());
 }

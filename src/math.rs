@@ -159,8 +159,10 @@ impl EulerTrig {
     /// [`Self::from_angles`] of those angles to round-off; roll's whole turns do not matter.
     pub fn from_dcm(dcm: &Mat3) -> Self {
         let s2 = -dcm[(0, 2)].clamp(-1.0, 1.0);
-        let c2 = dcm[(0, 0)].hypot(dcm[(0, 1)]);
-        let r = dcm[(1, 2)].hypot(dcm[(2, 2)]);
+        // Elements of a DCM are at most 1 in size: no overflow to guard against (`hypot`
+        // would cost as much as the sin_cos this replaces).
+        let c2 = (dcm[(0, 0)] * dcm[(0, 0)] + dcm[(0, 1)] * dcm[(0, 1)]).sqrt();
+        let r = (dcm[(1, 2)] * dcm[(1, 2)] + dcm[(2, 2)] * dcm[(2, 2)]).sqrt();
         if r > 0.0 {
             Self { s2, c2, s3: dcm[(1, 2)] / r, c3: dcm[(2, 2)] / r }
         } else {

@@ -42,7 +42,7 @@ type Angles = Vec<Vec<[f64; 3]>>;
 
 /// Runs `s` with `method`, returning the report and the hinge angles at every output row.
 fn timed_run(s: &Scenario, method: &str, tolerance: f64) -> (foldsim::simulate::RunReport, Angles) {
-    let mut settings = s.settings.clone();
+    let mut settings = s.settings;
     settings.integrator = match method {
         "sdirk4" => foldsim::simulate::Integrator::Sdirk4 { rtol: tolerance, atol: tolerance },
         _ => foldsim::simulate::Integrator::Dop853 { rtol: tolerance, atol: tolerance },

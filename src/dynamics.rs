@@ -10,24 +10,26 @@ use crate::constraints::{
     Lock, Row, Workspace, constrain_accelerations, euler_index, hinge_rows, independent, project,
 };
 use crate::law::{EventKind, HingeState, HingeWrench, LawMemory};
-use crate::math::{Euler321, EulerTrig, Mat3, Vec3, quat_rate};
+use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, quat_rate, real};
 use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
+use nalgebra::{Matrix3, Vector3};
 use std::cell::{Cell, RefCell};
 
-/// Kinematics of one hinge at one instant, with the frames the wrench needs.
+/// Kinematics of one hinge at one instant, with the frames the wrench needs (f64, or dual
+/// numbers for the Jacobian).
 #[derive(Clone, Copy, Debug)]
-pub struct HingeKinematics {
+pub struct HingeKinematics<T: nalgebra::Scalar = f64> {
     /// The relative state handed to the law.
-    pub state: HingeState,
+    pub state: HingeState<T>,
     /// `[N A0]`.
-    pub dcm_n_a0: Mat3,
+    pub dcm_n_a0: Matrix3<T>,
     /// `[N A]`.
-    pub dcm_n_a: Mat3,
+    pub dcm_n_a: Matrix3<T>,
     /// A's origin from the parent CoM, m, N components.
-    pub arm_parent_in_n: Vec3,
+    pub arm_parent_in_n: Vector3<T>,
     /// A's origin from the child CoM, m, N components.
-    pub arm_child_in_n: Vec3,
+    pub arm_child_in_n: Vector3<T>,
 }
 
 /// Relative state of hinge `h` from the motions of its parent and child (MODEL.md §2).
@@ -35,11 +37,16 @@ pub struct HingeKinematics {
 /// The Euler angles are taken from `[A A0]` and moved by whole turns in yaw and roll to lie
 /// nearest `theta_ref` (MODEL.md §7), so tree and loop hinges alike are continuous.
 #[inline]
-pub fn hinge_kinematics(h: &Hinge, parent: &BodyMotion, child: &BodyMotion, theta_ref: &Euler321) -> HingeKinematics {
-    let dcm_n_a0 = parent.dcm_n_b * h.dcm_parent_a0;
-    let dcm_n_a = child.dcm_n_b * h.dcm_child_a;
-    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent;
-    let arm_child = child.dcm_n_b * h.r_a_in_child;
+pub fn hinge_kinematics<T: Real>(
+    h: &Hinge,
+    parent: &BodyMotion<T>,
+    child: &BodyMotion<T>,
+    theta_ref: &Euler321,
+) -> HingeKinematics<T> {
+    let dcm_n_a0 = parent.dcm_n_b * lift::<T>(&h.dcm_parent_a0);
+    let dcm_n_a = child.dcm_n_b * lift::<T>(&h.dcm_child_a);
+    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent.map(real::<T>);
+    let arm_child = child.dcm_n_b * h.r_a_in_child.map(real::<T>);
     let r_a = child.r_in_n + arm_child;
     let arm_parent = r_a - parent.r_in_n;
     let delta_n = arm_parent - arm_a0;

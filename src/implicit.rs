@@ -3,11 +3,8 @@
 //! order-3 solution) with simplified Newton iterations.
 //!
 //! The Newton matrix `W = I − hγJ` is supplied by a [`NewtonMatrix`]: how the Jacobian is
-//! formed and factored (dense here for small systems and tests; a sparse one following the
-//! hinge graph is the stiff-hinge issue's next step) is separate from the method.
-//!
-//! Status: the method and its tests are here; it is not yet selectable from scenario files
-//! (that needs the sparse Newton matrix so that a step stays linear in bodies plus hinges).
+//! formed and factored is separate from the method. [`DenseNewton`] (here) is for small
+//! systems and tests; runs use [`crate::sparse::GraphNewton`], which follows the hinge graph.
 
 use crate::ode::{Control, OdeError, OdeSystem, Stats, Step};
 

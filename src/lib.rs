@@ -19,6 +19,7 @@ pub mod dynamics;
 pub mod generate;
 pub mod implicit;
 pub mod init;
+pub mod jacobian;
 pub mod law;
 pub mod math;
 pub mod model;

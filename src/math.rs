@@ -12,6 +12,29 @@ pub type Vec3 = Vector3<f64>;
 /// 3×3 matrix of f64; a DCM `[XY]` or an inertia tensor, as the name says.
 pub type Mat3 = Matrix3<f64>;
 
+/// The scalars the kinematics and the hinge laws are written for: `f64` on the right-hand
+/// side, dual numbers (`num_dual`) when the implicit path forms its Jacobian.
+pub trait Real: nalgebra::RealField + Copy {}
+impl<T: nalgebra::RealField + Copy> Real for T {}
+
+/// `x` as a [`Real`].
+#[inline]
+pub fn real<T: Real>(x: f64) -> T {
+    nalgebra::convert(x)
+}
+
+/// The real part of a [`Real`] (the value itself for f64).
+#[inline]
+pub fn re<T: Real>(x: T) -> f64 {
+    nalgebra::convert_unchecked::<T, f64>(x)
+}
+
+/// A matrix of f64 as a matrix of [`Real`]s.
+#[inline]
+pub fn lift<T: Real>(m: &Mat3) -> Matrix3<T> {
+    m.map(real)
+}
+
 /// Elementary rotation about axis 1 by `a` rad (MODEL.md §1).
 pub fn m1(a: f64) -> Mat3 {
     let (s, c) = a.sin_cos();
@@ -34,13 +57,52 @@ pub fn m3(a: f64) -> Mat3 {
 ///
 /// `[XY] = M1(θ3) · M2(θ2) · M3(θ1)` (MODEL.md §1).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct Euler321 {
+pub struct Euler321<T = f64> {
     /// θ1, rotation about axis 3, rad.
-    pub yaw: f64,
+    pub yaw: T,
     /// θ2, rotation about the new axis 2, rad.
-    pub pitch: f64,
+    pub pitch: T,
     /// θ3, rotation about the newest axis 1, rad.
-    pub roll: f64,
+    pub roll: T,
+}
+
+impl<T: Real> Euler321<T> {
+    /// Principal 3-2-1 angles of a DCM `[XY]`: yaw and roll in (−π, π], pitch in [−π/2, π/2]
+    /// (MODEL.md §7).
+    pub fn from_dcm(dcm: &Matrix3<T>) -> Self {
+        let one = T::one();
+        let s = dcm[(0, 2)];
+        let s = if s > one {
+            one
+        } else if s < -one {
+            -one
+        } else {
+            s
+        };
+        Self { yaw: dcm[(0, 1)].atan2(dcm[(0, 0)]), pitch: -s.asin(), roll: dcm[(1, 2)].atan2(dcm[(2, 2)]) }
+    }
+
+    /// These angles with yaw and roll moved by whole turns to lie nearest `reference`
+    /// (continuous tracking of MODEL.md §7). Pitch is left as it is.
+    pub fn unwrapped_near(self, reference: &Euler321) -> Self {
+        let turns = |angle: T, reference: f64| real::<T>(2.0 * PI * ((reference - re(angle)) / (2.0 * PI)).round());
+        Self {
+            yaw: self.yaw + turns(self.yaw, reference.yaw),
+            pitch: self.pitch,
+            roll: self.roll + turns(self.roll, reference.roll),
+        }
+    }
+
+    /// The paper's torque-ordered vector `φ = [θ3, θ2, θ1]` = (roll, pitch, yaw), rad
+    /// (MODEL.md §4, paper eq. 15b).
+    pub fn phi(self) -> Vector3<T> {
+        Vector3::new(self.roll, self.pitch, self.yaw)
+    }
+
+    /// As a vector `[yaw, pitch, roll]` = `[θ1, θ2, θ3]`, rad.
+    pub fn as_vector(self) -> Vector3<T> {
+        Vector3::new(self.yaw, self.pitch, self.roll)
+    }
 }
 
 impl Euler321 {
@@ -66,36 +128,6 @@ impl Euler321 {
             c3 * s2 * s1 - s3 * c1,
             c3 * c2,
         )
-    }
-
-    /// Principal 3-2-1 angles of a DCM `[XY]`: yaw and roll in (−π, π], pitch in [−π/2, π/2]
-    /// (MODEL.md §7).
-    pub fn from_dcm(dcm: &Mat3) -> Self {
-        let yaw = dcm[(0, 1)].atan2(dcm[(0, 0)]);
-        let pitch = -dcm[(0, 2)].clamp(-1.0, 1.0).asin();
-        let roll = dcm[(1, 2)].atan2(dcm[(2, 2)]);
-        Self { yaw, pitch, roll }
-    }
-
-    /// These angles with yaw and roll moved by whole turns to lie nearest `reference`
-    /// (continuous tracking of MODEL.md §7). Pitch is left as it is.
-    pub fn unwrapped_near(self, reference: &Euler321) -> Self {
-        Self {
-            yaw: unwrap_near(self.yaw, reference.yaw),
-            pitch: self.pitch,
-            roll: unwrap_near(self.roll, reference.roll),
-        }
-    }
-
-    /// As a vector `[yaw, pitch, roll]` = `[θ1, θ2, θ3]`, rad.
-    pub fn as_vector(self) -> Vec3 {
-        Vec3::new(self.yaw, self.pitch, self.roll)
-    }
-
-    /// The paper's torque-ordered vector `φ = [θ3, θ2, θ1]` = (roll, pitch, yaw), rad
-    /// (MODEL.md §4, paper eq. 15b).
-    pub fn phi(self) -> Vec3 {
-        Vec3::new(self.roll, self.pitch, self.yaw)
     }
 
     /// Sines and cosines of pitch and roll.
@@ -129,15 +161,15 @@ impl Euler321 {
 /// `B(θ)` depends on. Read straight from the DCM when the angles come from one (no
 /// trigonometric calls on the right-hand side's hot path).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EulerTrig {
+pub struct EulerTrig<T = f64> {
     /// sin θ2.
-    pub s2: f64,
+    pub s2: T,
     /// cos θ2 (≥ 0: pitch lies in [−π/2, π/2]).
-    pub c2: f64,
+    pub c2: T,
     /// sin θ3.
-    pub s3: f64,
+    pub s3: T,
     /// cos θ3.
-    pub c3: f64,
+    pub c3: T,
 }
 
 impl Default for EulerTrig {
@@ -153,82 +185,97 @@ impl EulerTrig {
         let (s3, c3) = theta.roll.sin_cos();
         Self { s2, c2, s3, c3 }
     }
+}
 
+impl<T: Real> EulerTrig<T> {
     /// From the DCM `[XY] = M1(θ3) M2(θ2) M3(θ1)` whose angles [`Euler321::from_dcm`] gives
     /// (row 0 = (c2 c1, c2 s1, −s2), elements (1, 2) = s3 c2 and (2, 2) = c3 c2). Equal to
     /// [`Self::from_angles`] of those angles to round-off; roll's whole turns do not matter.
-    pub fn from_dcm(dcm: &Mat3) -> Self {
-        let s2 = -dcm[(0, 2)].clamp(-1.0, 1.0);
+    pub fn from_dcm(dcm: &Matrix3<T>) -> Self {
+        let one = T::one();
+        let s = dcm[(0, 2)];
+        let s2 = -(if s > one {
+            one
+        } else if s < -one {
+            -one
+        } else {
+            s
+        });
         // Elements of a DCM are at most 1 in size: no overflow to guard against (`hypot`
         // would cost as much as the sin_cos this replaces).
         let c2 = (dcm[(0, 0)] * dcm[(0, 0)] + dcm[(0, 1)] * dcm[(0, 1)]).sqrt();
         let r = (dcm[(1, 2)] * dcm[(1, 2)] + dcm[(2, 2)] * dcm[(2, 2)]).sqrt();
-        if r > 0.0 {
+        if r > T::zero() {
             Self { s2, c2, s3: dcm[(1, 2)] / r, c3: dcm[(2, 2)] / r }
         } else {
             // Pitch ±π/2 exactly: roll is undefined, and so is every law there.
-            Self { s2, c2, s3: 0.0, c3: 1.0 }
+            Self { s2, c2, s3: T::zero(), c3: one }
         }
     }
 
     /// Euler-rate matrix `B(θ)`: `ω = B(θ) θ̇`, ω of X relative to Y in X components
     /// (MODEL.md §1).
-    pub fn rate_matrix(&self) -> Mat3 {
+    pub fn rate_matrix(&self) -> Matrix3<T> {
         let Self { s2, c2, s3, c3 } = *self;
-        Mat3::new(-s2, 0.0, 1.0, s3 * c2, c3, 0.0, c3 * c2, -s3, 0.0)
+        let (zero, one) = (T::zero(), T::one());
+        Matrix3::new(-s2, zero, one, s3 * c2, c3, zero, c3 * c2, -s3, zero)
     }
 
     /// Solves `B(θ)ᵀ τ = g` for τ in closed form. `g` is a generalized force on `θ = [θ1, θ2,
     /// θ3]`; τ is the torque (X components) whose virtual work on ω equals `g · δθ`.
     /// Singular at pitch ±π/2, where the result is not finite.
-    pub fn torque_from_generalized(&self, g: &Vec3) -> Vec3 {
+    pub fn torque_from_generalized(&self, g: &Vector3<T>) -> Vector3<T> {
         let Self { s2, c2, s3, c3 } = *self;
         // Bᵀ = [[−s2, s3 c2, c3 c2], [0, c3, −s3], [1, 0, 0]].
         let t1 = g.z;
         let h = (g.x + s2 * g.z) / c2; // = s3 τ2 + c3 τ3
         let t2 = c3 * g.y + s3 * h;
         let t3 = -s3 * g.y + c3 * h;
-        Vec3::new(t1, t2, t3)
+        Vector3::new(t1, t2, t3)
     }
 
     /// Euler-angle rates `θ̇ = B(θ)⁻¹ ω` for ω of X relative to Y in X components, rad/s
     /// (MODEL.md §1). Singular at pitch ±π/2.
-    pub fn rates_from_omega(&self, omega: &Vec3) -> Vec3 {
+    pub fn rates_from_omega(&self, omega: &Vector3<T>) -> Vector3<T> {
         let Self { s2, c2, s3, c3 } = *self;
         let yaw_rate = (s3 * omega.y + c3 * omega.z) / c2;
-        Vec3::new(yaw_rate, c3 * omega.y - s3 * omega.z, omega.x + s2 * yaw_rate)
+        Vector3::new(yaw_rate, c3 * omega.y - s3 * omega.z, omega.x + s2 * yaw_rate)
     }
 }
 
 /// Rotation vector `r` (axis × angle, rad, |r| ≤ π) of the DCM `[X Y]`: frame X is frame Y
 /// turned by |r| about r, so `[Y X] = exp([r×])`; r has the same components in X and Y.
-pub fn rotation_vector(dcm_x_y: &Mat3) -> Vec3 {
+pub fn rotation_vector<T: Real>(dcm_x_y: &Matrix3<T>) -> Vector3<T> {
     let rot = nalgebra::Rotation3::from_matrix_unchecked(dcm_x_y.transpose());
     let q = nalgebra::UnitQuaternion::from_rotation_matrix(&rot);
     let (w, v) = (q.w, q.imag());
-    let (w, v) = if w < 0.0 { (-w, -v) } else { (w, v) };
+    let (w, v) = if w < T::zero() { (-w, -v) } else { (w, v) };
     let sin_half = v.norm();
-    if sin_half < 1e-12 {
+    let two: T = real(2.0);
+    if sin_half < real(1e-12) {
         // angle/sin(angle/2) → 2 as the angle → 0.
-        return v * 2.0;
+        return v * two;
     }
-    let angle = 2.0 * sin_half.atan2(w);
+    let angle = two * sin_half.atan2(w);
     v * (angle / sin_half)
 }
 
 /// Inverse of the right Jacobian of SO(3) at r: `ṙ = J_r(r)⁻¹ ω`, with ω the angular velocity
 /// of X relative to Y in X components for `[Y X] = exp([r×])`. Finite for |r| < 2π; its
 /// transpose maps a generalized force on r to the torque that does the same virtual work.
-pub fn rotation_vector_rate_matrix_inverse(r: &Vec3) -> Mat3 {
-    let angle = r.norm();
+pub fn rotation_vector_rate_matrix_inverse<T: Real>(r: &Vector3<T>) -> Matrix3<T> {
+    // |r|² rather than |r| near 0, so that dual numbers differentiate through r = 0.
+    let angle2 = r.norm_squared();
     let k = skew(r);
-    let c = if angle < 1e-4 {
+    let one = T::one();
+    let c = if angle2 < real(1e-8) {
         // 1/θ² − (1 + cos θ)/(2θ sin θ) = 1/12 + θ²/720 + …
-        1.0 / 12.0 + angle * angle / 720.0
+        real::<T>(1.0 / 12.0) + angle2 / real(720.0)
     } else {
-        1.0 / (angle * angle) - (1.0 + angle.cos()) / (2.0 * angle * angle.sin())
+        let angle = angle2.sqrt();
+        one / angle2 - (one + angle.cos()) / (real::<T>(2.0) * angle * angle.sin())
     };
-    Mat3::identity() + k * 0.5 + k * k * c
+    Matrix3::identity() + k * real::<T>(0.5) + k * k * c
 }
 
 /// `angle + 2πk` for the integer k that brings it nearest `reference`, rad.
@@ -238,8 +285,9 @@ pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
 }
 
 /// Skew-symmetric cross-product matrix `[v×]`.
-pub fn skew(v: &Vec3) -> Mat3 {
-    Mat3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+pub fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
+    let z = T::zero();
+    Matrix3::new(z, -v.z, v.y, v.z, z, -v.x, -v.y, v.x, z)
 }
 
 /// Unit quaternion `(w, x, y, z)` (Hamilton) of a rotation, as stored in the state vector.
@@ -254,19 +302,20 @@ pub fn quat_from_dcm(dcm_n_b: &Mat3) -> [f64; 4] {
 
 /// DCM `[N b]` of a quaternion `(w, x, y, z)` that need not be exactly unit: it is
 /// normalized first, so the integrator's drift of |q| never reaches the physics.
-pub fn dcm_from_quat(q: &[f64]) -> Mat3 {
+pub fn dcm_from_quat<T: Real>(q: &[T]) -> Matrix3<T> {
     let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
     let (w, x, y, z) = (q[0] / n, q[1] / n, q[2] / n, q[3] / n);
-    Mat3::new(
-        1.0 - 2.0 * (y * y + z * z),
-        2.0 * (x * y - w * z),
-        2.0 * (x * z + w * y),
-        2.0 * (x * y + w * z),
-        1.0 - 2.0 * (x * x + z * z),
-        2.0 * (y * z - w * x),
-        2.0 * (x * z - w * y),
-        2.0 * (y * z + w * x),
-        1.0 - 2.0 * (x * x + y * y),
+    let (one, two) = (T::one(), real::<T>(2.0));
+    Matrix3::new(
+        one - two * (y * y + z * z),
+        two * (x * y - w * z),
+        two * (x * z + w * y),
+        two * (x * y + w * z),
+        one - two * (x * x + z * z),
+        two * (y * z - w * x),
+        two * (x * z - w * y),
+        two * (y * z + w * x),
+        one - two * (x * x + y * y),
     )
 }
 

@@ -447,7 +447,7 @@ pub fn simulate(
     let start = Instant::now();
     let result = match settings.integrator {
         Integrator::Sdirk4 { rtol, atol } => {
-            let mut newton = GraphNewton::new(&dynamics, model);
+            let mut newton = GraphNewton::new(&dynamics, model).with_exact(&dynamics);
             integrate_sdirk4(&dynamics, &mut newton, rtol, atol, 0.0, settings.duration, &y0, |step| out.on_step(step))
         }
         other => {

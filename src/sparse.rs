@@ -12,16 +12,18 @@
 //! with 6×6 blocks on the same graph; then `Δx = P (r_x + hγ ∂ẋ/∂v Δv)`. This is W⁻¹
 //! exactly, at a sixth of the block cost of eliminating 13×13 blocks.
 //!
-//! `(A_x, A_v)` come from forward differences of the right-hand side with a distance-2
-//! colouring of the body graph: bodies of one colour have disjoint neighbourhoods, so one
-//! evaluation per colour and state component fills all their columns (13 × colours
-//! evaluations, not 13 × bodies). S is factored by block Gaussian elimination in a
+//! `(A_x, A_v)` are exact, from dual numbers ([`crate::jacobian`]), when the system offers
+//! them; otherwise (locked directions, a law without a dual form) from forward differences
+//! of the right-hand side with a distance-2 colouring of the body graph: bodies of one
+//! colour have disjoint neighbourhoods, so one evaluation per colour and state component
+//! fills all their columns (13 × colours evaluations, not 13 × bodies). S is factored by block Gaussian elimination in a
 //! minimum-degree order (no fill for trees; fill along loops), dense LU inside the diagonal
 //! blocks. Each hinge's dissipated-energy integral depends on the bodies but feeds nothing
 //! back; its rows are taken as the identity, which simplified Newton tolerates (those
 //! components converge in one iteration once the bodies have).
 
 use crate::implicit::NewtonMatrix;
+use crate::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
 use crate::model::Model;
 use crate::ode::OdeSystem;
 use crate::state::{BODY_STATE_LEN as B, OMEGA, QUAT, VEL};
@@ -32,8 +34,7 @@ use std::collections::BTreeMap;
 const X: usize = 7;
 /// Twist numbers per body (Ṙ, ω).
 const V: usize = 6;
-type Block = SMatrix<f64, V, V>;
-type PoseBlock = SMatrix<f64, V, X>;
+type Block = TwistBlock;
 type Vec6 = SVector<f64, V>;
 type Vec7 = SVector<f64, X>;
 
@@ -97,6 +98,11 @@ impl PoseRates {
 /// The hinge-graph-sparse Newton matrix of a model's equations of motion.
 pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     system: &'a S,
+    /// The exact Jacobian's source, if the system has one.
+    exact: Option<&'a dyn ExactJacobian>,
+    /// Jacobians formed exactly and by differences.
+    exact_count: usize,
+    differenced_count: usize,
     nb: usize,
     n: usize,
     /// Closed neighbourhoods: each body and the bodies it shares a hinge with, sorted.
@@ -183,6 +189,9 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         let n = B * nb + model.hinges.len();
         Self {
             system,
+            exact: None,
+            exact_count: 0,
+            differenced_count: 0,
             nb,
             n,
             jac_x: neighbours.iter().map(|v| vec![PoseBlock::zeros(); v.len()]).collect(),
@@ -198,6 +207,17 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             lower: Vec::new(),
             evaluations: 0,
         }
+    }
+
+    /// Forms the Jacobian exactly from `source` where it can (see [`ExactJacobian`]).
+    pub fn with_exact(mut self, source: &'a dyn ExactJacobian) -> Self {
+        self.exact = Some(source);
+        self
+    }
+
+    /// Jacobians formed so far: (exactly, by finite differences).
+    pub fn jacobian_counts(&self) -> (usize, usize) {
+        (self.exact_count, self.differenced_count)
     }
 
     /// Number of off-diagonal blocks in the factors (fill included).
@@ -218,6 +238,23 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             pose.q.copy_from_slice(&s[QUAT..QUAT + 4]);
             pose.omega.copy_from_slice(&s[OMEGA..OMEGA + 3]);
         }
+        if let Some(source) = self.exact {
+            for (x, v) in self.jac_x.iter_mut().zip(&mut self.jac_v) {
+                x.iter_mut().for_each(|b| *b = PoseBlock::zeros());
+                v.iter_mut().for_each(|b| *b = Block::zeros());
+            }
+            let (neighbours, jac_x, jac_v) = (&self.neighbours, &mut self.jac_x, &mut self.jac_v);
+            let formed = source.acceleration_jacobian(y, &mut |i, j, dx, dv| {
+                let slot = neighbours[i].binary_search(&j).expect("blocks only between neighbours");
+                jac_x[i][slot] += dx;
+                jac_v[i][slot] += dv;
+            });
+            if formed {
+                self.exact_count += 1;
+                return self.refactor(h_gamma);
+            }
+        }
+        self.differenced_count += 1;
         let mut yp = y.to_vec();
         let mut fp = vec![0.0; self.n];
         for class in &self.colours {

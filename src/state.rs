@@ -4,8 +4,9 @@
 //! `R_i` (m, N components, 3), `q_n_i` (unit quaternion w, x, y, z mapping body to N
 //! components, 4), `Ṙ_i` (m/s, N components, 3), `ω_{i/N}` (rad/s, body components, 3).
 
-use crate::math::{Mat3, Vec3, dcm_from_quat, quat_from_dcm};
+use crate::math::{Mat3, Real, Vec3, dcm_from_quat, quat_from_dcm};
 use crate::model::Model;
+use nalgebra::{Matrix3, Vector3};
 
 /// Numbers per body in the state vector.
 pub const BODY_STATE_LEN: usize = 13;
@@ -21,17 +22,17 @@ pub const OMEGA: usize = 10;
 /// The flat state vector integrated in time.
 pub type State = Vec<f64>;
 
-/// Pose and twist of one body, everything resolved.
+/// Pose and twist of one body, everything resolved (f64, or dual numbers for the Jacobian).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyMotion {
+pub struct BodyMotion<T: nalgebra::Scalar = f64> {
     /// CoM position `R_i`, m, N components.
-    pub r_in_n: Vec3,
+    pub r_in_n: Vector3<T>,
     /// `[N i]`.
-    pub dcm_n_b: Mat3,
+    pub dcm_n_b: Matrix3<T>,
     /// CoM velocity `Ṙ_i`, m/s, N components.
-    pub v_in_n: Vec3,
+    pub v_in_n: Vector3<T>,
     /// `ω_{i/N}`, rad/s, N components.
-    pub omega_in_n: Vec3,
+    pub omega_in_n: Vector3<T>,
 }
 
 impl Default for BodyMotion {
@@ -44,19 +45,26 @@ impl BodyMotion {
     /// Reads body `i` from a state vector (the quaternion is normalized).
     #[inline]
     pub fn from_state(y: &[f64], i: usize) -> Self {
-        let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+        Self::from_body_state(&y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)])
+    }
+}
+
+impl<T: Real> BodyMotion<T> {
+    /// From one body's [`BODY_STATE_LEN`] state numbers (the quaternion is normalized).
+    #[inline]
+    pub fn from_body_state(s: &[T]) -> Self {
         let dcm_n_b = dcm_from_quat(&s[QUAT..QUAT + 4]);
-        let omega_in_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
+        let omega_in_b = Vector3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
         Self {
-            r_in_n: Vec3::new(s[POS], s[POS + 1], s[POS + 2]),
+            r_in_n: Vector3::new(s[POS], s[POS + 1], s[POS + 2]),
             dcm_n_b,
-            v_in_n: Vec3::new(s[VEL], s[VEL + 1], s[VEL + 2]),
+            v_in_n: Vector3::new(s[VEL], s[VEL + 1], s[VEL + 2]),
             omega_in_n: dcm_n_b * omega_in_b,
         }
     }
 
     /// `ω_{i/N}` in body components, rad/s.
-    pub fn omega_in_body(&self) -> Vec3 {
+    pub fn omega_in_body(&self) -> Vector3<T> {
         self.dcm_n_b.transpose() * self.omega_in_n
     }
 }

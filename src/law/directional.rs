@@ -19,8 +19,9 @@
 //! never negative, and the mode is discrete memory changed by located events.
 
 use super::table::{Outside, Table, piece, piece_bounds};
-use super::{DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, LawMemory, SlipMode};
-use crate::math::{Mat3, Vec3, rotation_vector, rotation_vector_rate_matrix_inverse};
+use super::{DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, JacobianDual, LawMemory, SlipMode};
+use crate::math::{Real, re, real, rotation_vector, rotation_vector_rate_matrix_inverse};
+use nalgebra::{Matrix3, Vector3};
 
 /// Names of the six directions, in order.
 pub const DIRECTION_NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
@@ -221,6 +222,40 @@ impl Direction {
         (f, v, p)
     }
 
+    /// Derivatives of [`Direction::evaluate`]'s force with the memory held:
+    /// `(∂f/∂q, ∂f/∂q̇, ∂f/∂v, ∂f/∂v̇)`, v the coupled direction's coordinate. Exact: the
+    /// responses are piecewise smooth and the memory fixes the piece.
+    fn slopes(&self, q: f64, m: &DirectionMemory, other: f64) -> [f64; 4] {
+        let u = q - self.rest;
+        let mut d = match &self.response {
+            Response::Free | Response::Locked => [0.0; 4],
+            Response::Linear { k } => [*k, 0.0, 0.0, 0.0],
+            Response::Table(t) => [t.eval(u).1, 0.0, 0.0, 0.0],
+            Response::Table2(t) => {
+                let (j, beta, held) = t.locate(other);
+                let ((fa, da), (fb, db)) = (t.lines[j].eval(u), t.lines[j + 1].eval(u));
+                let df_dv = if held { 0.0 } else { (fb - fa) / (t.v[j + 1] - t.v[j]) };
+                [(1.0 - beta) * da + beta * db, 0.0, df_dv, 0.0]
+            }
+            Response::TapeSpring(ts) => {
+                let slope = match m.slip {
+                    SlipMode::Decreasing => ts.decreasing.eval(u).1,
+                    SlipMode::Increasing => ts.increasing.eval(u).1,
+                    SlipMode::Stick { .. } => ts.decreasing.eval(u).1 + ts.transition_stiffness,
+                };
+                [slope, 0.0, 0.0, 0.0]
+            }
+        };
+        d[1] += self.damping;
+        if let Some(stop) = &self.stop
+            && (m.in_contact || m.latched)
+        {
+            d[0] += stop.stiffness;
+            d[1] += stop.damping;
+        }
+        d
+    }
+
     fn conservative(&self) -> bool {
         self.damping == 0.0
             && !matches!(self.response, Response::TapeSpring(_) | Response::Table2(_))
@@ -249,7 +284,7 @@ const SLOTS: usize = 5;
 impl DirectionalLaw {
     /// Coordinates and rates `(q, q̇)` of the six directions, and for rotation vectors the
     /// matrix `J_r(r)⁻¹`.
-    fn coordinates(&self, s: &HingeState) -> ([f64; 6], [f64; 6], Option<Mat3>) {
+    fn coordinates<T: Real>(&self, s: &HingeState<T>) -> ([T; 6], [T; 6], Option<Matrix3<T>>) {
         let d = s.delta_in_a0;
         let dd = s.delta_rate_in_a0;
         match self.angles {
@@ -265,6 +300,16 @@ impl DirectionalLaw {
                 ([d.x, d.y, d.z, r.x, r.y, r.z], [dd.x, dd.y, dd.z, rate.x, rate.y, rate.z], Some(j_inv))
             }
         }
+    }
+
+    /// The wrench of generalized forces `f` on the six coordinates: `F = (f_x, f_y, f_z)`,
+    /// `τ = B(θ)⁻ᵀ` or `J_r(r)⁻ᵀ` applied to the rotational ones.
+    fn wrench_of<T: Real>(s: &HingeState<T>, f: &[T; 6], j_inv: Option<Matrix3<T>>) -> HingeWrench<T> {
+        let torque_in_a = match j_inv {
+            None => s.trig.torque_from_generalized(&Vector3::new(f[5], f[4], f[3])),
+            Some(j_inv) => j_inv.transpose() * Vector3::new(f[3], f[4], f[5]),
+        };
+        HingeWrench { force_in_a0: Vector3::new(f[0], f[1], f[2]), torque_in_a }
     }
 
     fn any_events(&self) -> bool {
@@ -309,12 +354,32 @@ impl HingeLaw for DirectionalLaw {
             *fi = force;
             p += power;
         }
-        let g_rot = Vec3::new(f[3], f[4], f[5]);
-        let torque_in_a = match j_inv {
-            None => state.trig.torque_from_generalized(&Vec3::new(f[5], f[4], f[3])),
-            Some(j_inv) => j_inv.transpose() * g_rot,
-        };
-        (HingeWrench { force_in_a0: Vec3::new(f[0], f[1], f[2]), torque_in_a }, p)
+        (Self::wrench_of(state, &f, j_inv), p)
+    }
+
+    /// Each direction's force as its value at the state's real part plus its exact slopes
+    /// ([`Direction::slopes`]) times the coordinates' dual parts: the chain rule, with the
+    /// memory (branch, contact) held as the Jacobian requires.
+    fn wrench_dual(&self, state: &HingeState<JacobianDual>, memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
+        let (q, qd, j_inv) = self.coordinates(state);
+        let (q0, qd0) = (q.map(re), qd.map(re));
+        let mut f = [JacobianDual::from_re(0.0); 6];
+        for (i, fi) in f.iter_mut().enumerate() {
+            let d = &self.directions[i];
+            let o = match &d.response {
+                Response::Table2(t) => Some(t.other),
+                _ => None,
+            };
+            let other = o.map_or(0.0, |o| q0[o] - self.directions[o].rest);
+            let (force, _, _) = self.evaluate(i, &q0, &qd0, memory);
+            let [dq, dqd, dv, dvd] = d.slopes(q0[i], &memory.directions[i], other);
+            let mut v = real::<JacobianDual>(force) + (q[i] - q0[i]) * dq + (qd[i] - qd0[i]) * dqd;
+            if let Some(o) = o {
+                v += (q[o] - q0[o]) * dv + (qd[o] - qd0[o]) * dvd;
+            }
+            *fi = v;
+        }
+        Some(Self::wrench_of(state, &f, j_inv))
     }
 
     fn stored_energy(&self, state: &HingeState, memory: &LawMemory) -> f64 {
@@ -520,7 +585,7 @@ impl HingeLaw for DirectionalLaw {
 mod tests {
     use super::super::table::Interpolation;
     use super::*;
-    use crate::math::Euler321;
+    use crate::math::{Euler321, Vec3};
 
     fn tape() -> TapeSpring {
         let inc = [(-0.1, -2.0), (0.0, 0.0), (0.02, 8.0), (0.1, 0.8), (3.0, 0.9)];

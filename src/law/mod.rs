@@ -12,24 +12,29 @@
 pub mod directional;
 pub mod table;
 
-use crate::math::{Euler321, EulerTrig, Mat3, Vec3, rotation_vector, rotation_vector_rate_matrix_inverse};
+use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, rotation_vector, rotation_vector_rate_matrix_inverse};
+use nalgebra::{Matrix3, Vector3};
 use std::fmt::Debug;
 
-/// Relative state of one hinge (MODEL.md §2).
+/// The dual numbers the implicit path differentiates a hinge with: derivatives with respect
+/// to the 13 state numbers of its parent and the 13 of its child (see [`crate::state`]).
+pub type JacobianDual = num_dual::DualSVec64<26>;
+
+/// Relative state of one hinge (MODEL.md §2), in f64 or, for the Jacobian, dual numbers.
 #[derive(Clone, Copy, Debug)]
-pub struct HingeState {
+pub struct HingeState<T: nalgebra::Scalar = f64> {
     /// `δ = ᴬ⁰(R_A − R_A0)`: A's origin relative to A0's origin, A0 components, m.
-    pub delta_in_a0: Vec3,
+    pub delta_in_a0: Vector3<T>,
     /// Time derivative of the A0 components of δ, m/s.
-    pub delta_rate_in_a0: Vec3,
+    pub delta_rate_in_a0: Vector3<T>,
     /// 3-2-1 angles of `[A A0]`, tracked continuously (MODEL.md §7), rad.
-    pub theta: Euler321,
+    pub theta: Euler321<T>,
     /// `[A A0]`.
-    pub dcm_a_a0: Mat3,
+    pub dcm_a_a0: Matrix3<T>,
     /// `ω_{A/A0}` in A components, rad/s.
-    pub omega_rel_in_a: Vec3,
+    pub omega_rel_in_a: Vector3<T>,
     /// Sines and cosines of θ's pitch and roll (what `B(θ)` needs), from `[A A0]`.
-    pub trig: EulerTrig,
+    pub trig: EulerTrig<T>,
 }
 
 impl Default for HingeState {
@@ -54,12 +59,12 @@ impl HingeState {
 
 /// Force and torque a hinge law returns (MODEL.md §4).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct HingeWrench {
+pub struct HingeWrench<T: nalgebra::Scalar = f64> {
     /// Restoring force `F`, A0 components, N. The child receives `−F` at A's origin, the
     /// parent `+F` at the same point.
-    pub force_in_a0: Vec3,
+    pub force_in_a0: Vector3<T>,
     /// Restoring torque `τ`, A components, N·m. The child receives `−τ`, the parent `+τ`.
-    pub torque_in_a: Vec3,
+    pub torque_in_a: Vector3<T>,
 }
 
 /// Mode of a hysteretic (tape-spring) direction: a Prandtl slip element on top of the
@@ -121,6 +126,13 @@ pub struct LawMemory {
 pub trait HingeLaw: Debug + Send + Sync {
     /// Force (A0 components, N) and torque (A components, N·m) at this relative state.
     fn wrench(&self, state: &HingeState, memory: &LawMemory) -> HingeWrench;
+
+    /// [`HingeLaw::wrench`] in dual numbers, with the memory held: what the implicit path's
+    /// exact Jacobian needs. `None` if the law cannot (the Jacobian then falls back to
+    /// finite differences).
+    fn wrench_dual(&self, _state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
+        None
+    }
 
     /// Energy stored in the hinge, J. For a law with a potential this is that potential;
     /// for the paper-linear law it is the same quadratic form, reported for comparison
@@ -204,12 +216,17 @@ impl LinearGains {
         0.5 * state.delta_in_a0.dot(&(self.k_f * state.delta_in_a0)) + 0.5 * phi.dot(&(self.k_theta * phi))
     }
 
-    fn damping_force(&self, state: &HingeState) -> Vec3 {
-        self.c_f * state.delta_rate_in_a0
+    fn damping_force<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
+        lift::<T>(&self.c_f) * state.delta_rate_in_a0
     }
 
-    fn damping_torque(&self, state: &HingeState) -> Vec3 {
-        self.c_theta * state.omega_rel_in_a
+    fn damping_torque<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
+        lift::<T>(&self.c_theta) * state.omega_rel_in_a
+    }
+
+    /// `K_F δ + C_F δ̇`, the force of laws 1, 2 and the rotation-vector law.
+    fn force<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
+        lift::<T>(&self.k_f) * state.delta_in_a0 + self.damping_force(state)
     }
 
     fn undamped(&self) -> bool {
@@ -241,13 +258,23 @@ pub struct PaperLinear {
     pub gains: LinearGains,
 }
 
-impl HingeLaw for PaperLinear {
-    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+impl PaperLinear {
+    fn wrench_t<T: Real>(&self, state: &HingeState<T>) -> HingeWrench<T> {
         let g = &self.gains;
         HingeWrench {
-            force_in_a0: g.k_f * state.delta_in_a0 + g.damping_force(state),
-            torque_in_a: g.k_theta * state.theta.phi() + g.damping_torque(state),
+            force_in_a0: g.force(state),
+            torque_in_a: lift::<T>(&g.k_theta) * state.theta.phi() + g.damping_torque(state),
         }
+    }
+}
+
+impl HingeLaw for PaperLinear {
+    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+        self.wrench_t(state)
+    }
+
+    fn wrench_dual(&self, state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
+        Some(self.wrench_t(state))
     }
 
     fn stored_energy(&self, state: &HingeState, _memory: &LawMemory) -> f64 {
@@ -280,16 +307,26 @@ pub struct EulerPotential {
     pub gains: LinearGains,
 }
 
-impl HingeLaw for EulerPotential {
-    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+impl EulerPotential {
+    fn wrench_t<T: Real>(&self, state: &HingeState<T>) -> HingeWrench<T> {
         let g = &self.gains;
-        let k_phi = g.k_theta * state.theta.phi();
+        let k_phi = lift::<T>(&g.k_theta) * state.theta.phi();
         // ∂V/∂θ = (∂φ/∂θ)ᵀ K_θ φ; φ reverses θ, so the gradient is K_θ φ reversed.
-        let dv_dtheta = Vec3::new(k_phi.z, k_phi.y, k_phi.x);
+        let dv_dtheta = Vector3::new(k_phi.z, k_phi.y, k_phi.x);
         HingeWrench {
-            force_in_a0: g.k_f * state.delta_in_a0 + g.damping_force(state),
+            force_in_a0: g.force(state),
             torque_in_a: state.trig.torque_from_generalized(&dv_dtheta) + g.damping_torque(state),
         }
+    }
+}
+
+impl HingeLaw for EulerPotential {
+    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+        self.wrench_t(state)
+    }
+
+    fn wrench_dual(&self, state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
+        Some(self.wrench_t(state))
     }
 
     fn stored_energy(&self, state: &HingeState, _memory: &LawMemory) -> f64 {
@@ -321,15 +358,22 @@ pub struct RotationVectorLinear {
     pub gains: LinearGains,
 }
 
-impl HingeLaw for RotationVectorLinear {
-    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+impl RotationVectorLinear {
+    fn wrench_t<T: Real>(&self, state: &HingeState<T>) -> HingeWrench<T> {
         let g = &self.gains;
         let r = rotation_vector(&state.dcm_a_a0);
-        let torque = rotation_vector_rate_matrix_inverse(&r).transpose() * (g.k_theta * r);
-        HingeWrench {
-            force_in_a0: g.k_f * state.delta_in_a0 + g.damping_force(state),
-            torque_in_a: torque + g.damping_torque(state),
-        }
+        let torque = rotation_vector_rate_matrix_inverse(&r).transpose() * (lift::<T>(&g.k_theta) * r);
+        HingeWrench { force_in_a0: g.force(state), torque_in_a: torque + g.damping_torque(state) }
+    }
+}
+
+impl HingeLaw for RotationVectorLinear {
+    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+        self.wrench_t(state)
+    }
+
+    fn wrench_dual(&self, state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
+        Some(self.wrench_t(state))
     }
 
     fn stored_energy(&self, state: &HingeState, _memory: &LawMemory) -> f64 {

@@ -1,7 +1,8 @@
 //! Cost of the equations of motion against structure size, on the generated structures of
 //! `foldsim::generate` (a z-folded chain, and a grid whose hinges mostly close loops), law 2
 //! with stiff off-axis hinges:
-//! - one right-hand-side evaluation, per hinge, for N = 1 … 4096 panels;
+//! - one right-hand-side evaluation, per hinge, for N = 1 … 4096 panels (the fastest of ten
+//!   batches: other load on a shared machine only slows batches down);
 //! - wall time per simulated second with the explicit (DOP853) and implicit (SDIRK4) paths at
 //!   rtol = atol = 1e-6 with 1e7 N/m off-axis hinges, 0.1 s from release, for the same N,
 //!   with the hinge-angle accuracy each reached (against a 1000× tighter run, N ≤ 256).
@@ -77,6 +78,12 @@ fn main() {
     let only_rhs = args.iter().any(|a| a == "--rhs");
     let sizes: Vec<usize> = [1usize, 4, 16, 64, 256, 1024, 4096].into_iter().filter(|n| *n <= max_n).collect();
     let p = Params { duration: 0.2, ..Params::default() };
+    // `-- --profile SHAPE N`: only that structure's RHS loop, for 5 s, for a profiler.
+    if let Some(i) = args.iter().position(|a| a == "--profile") {
+        let n = args[i + 2].parse().expect("panel count");
+        rhs_cost(&structure(&args[i + 1], n, &p), 5.0);
+        return;
+    }
     println!("foldsim bench (load average {})", load());
     if !only_wall {
         rhs_section(&sizes, &p, quick);
@@ -85,6 +92,31 @@ fn main() {
         wall_section(&sizes, quick);
     }
     println!("\nload average after: {}", load());
+}
+
+/// Seconds per right-hand-side evaluation of `s` at a deformed state (every term live):
+/// the fastest of ten batches over `budget` s in all, since a shared machine's other load
+/// only ever slows a batch down.
+fn rhs_cost(s: &Scenario, budget: f64) -> f64 {
+    let model = &s.model;
+    let (mut y, refs) = initial_state(model, &s.initial);
+    for (i, v) in y.iter_mut().enumerate() {
+        *v += 1e-4 * ((i * 7919) % 13) as f64;
+    }
+    let dynamics = Dynamics::new(model, refs);
+    dynamics.initialize_memory(&y);
+    let mut dydt = vec![0.0; y.len()];
+    let mut best = f64::INFINITY;
+    for _ in 0..10 {
+        let (mut evals, start) = (0u64, Instant::now());
+        while start.elapsed().as_secs_f64() < budget / 10.0 {
+            dynamics.rhs(&y, &mut dydt);
+            evals += 1;
+        }
+        best = best.min(start.elapsed().as_secs_f64() / evals as f64);
+    }
+    std::hint::black_box(&dydt);
+    best
 }
 
 fn rhs_section(sizes: &[usize], p: &Params, quick: bool) {
@@ -97,22 +129,7 @@ fn rhs_section(sizes: &[usize], p: &Params, quick: bool) {
             }
             let s = structure(kind, n, p);
             let model = &s.model;
-            let (mut y, refs) = initial_state(model, &s.initial);
-            for (i, v) in y.iter_mut().enumerate() {
-                *v += 1e-4 * ((i * 7919) % 13) as f64; // a deformed state, every term live
-            }
-            let dynamics = Dynamics::new(model, refs);
-            dynamics.initialize_memory(&y);
-            let mut dydt = vec![0.0; y.len()];
-            let budget = if quick { 0.02 } else { 0.5 };
-            let (mut evals, start) = (0u64, Instant::now());
-            while start.elapsed().as_secs_f64() < budget {
-                for _ in 0..8 {
-                    dynamics.rhs(&y, &mut dydt);
-                }
-                evals += 8;
-            }
-            let per = start.elapsed().as_secs_f64() / evals as f64;
+            let per = rhs_cost(&s, if quick { 0.02 } else { 0.5 });
             let hinges = model.hinges.len();
             let loops = model.is_tree_hinge.iter().filter(|t| !**t).count();
             println!(
@@ -121,7 +138,24 @@ fn rhs_section(sizes: &[usize], p: &Params, quick: bool) {
                 per * 1e6,
                 per * 1e9 / hinges as f64
             );
-            std::hint::black_box(&dydt);
+        }
+    }
+    // Linearity, 64 → 4096 panels: the two sizes measured alternately (so that the machine's
+    // other load falls on both alike), the fastest batch of each.
+    if sizes.contains(&4096) {
+        for kind in ["chain", "grid"] {
+            let (small, large) = (structure(kind, 64, p), structure(kind, 4096, p));
+            let (mut a, mut b) = (f64::INFINITY, f64::INFINITY);
+            for _ in 0..if quick { 1 } else { 5 } {
+                a = a.min(rhs_cost(&small, 0.2) / small.model.hinges.len() as f64);
+                b = b.min(rhs_cost(&large, 0.2) / large.model.hinges.len() as f64);
+            }
+            println!(
+                "{kind:>6}: per-hinge cost at 4096 panels / at 64, measured alternately: {:.1} / {:.1} ns = {:.2}",
+                b * 1e9,
+                a * 1e9,
+                b / a
+            );
         }
     }
 }

@@ -122,8 +122,20 @@ pub struct LawMemory {
     pub directions: [DirectionMemory; 6],
 }
 
+/// A copy of a law in a new box (laws are `Clone`; this makes `Box<dyn HingeLaw>` so).
+pub trait CloneLaw {
+    /// The law, copied into a new allocation.
+    fn clone_box(&self) -> Box<dyn HingeLaw>;
+}
+
+impl<L: HingeLaw + Clone + 'static> CloneLaw for L {
+    fn clone_box(&self) -> Box<dyn HingeLaw> {
+        Box::new(self.clone())
+    }
+}
+
 /// A hinge's force and torque response.
-pub trait HingeLaw: Debug + Send + Sync {
+pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
     /// Force (A0 components, N) and torque (A components, N·m) at this relative state.
     fn wrench(&self, state: &HingeState, memory: &LawMemory) -> HingeWrench;
 

@@ -118,7 +118,8 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         on_step(&Step::hermite(t0, t0, &y, &cont)).map_err(OdeError::Callback)?;
     }
     let mut h = (1e-3 * (tf - t0)).min(1e-2);
-    let mut fresh_jacobian = false;
+    let mut fresh_jacobian = true;
+    stats.jacobians += 1;
     if !newton.prepare(t, &y, &f0, h * GAMMA) {
         return Err(OdeError::StepTooSmall { t, h });
     }
@@ -127,7 +128,10 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut fz: Vec<Vec<f64>> = vec![vec![0.0; n]; 5];
     let (mut rhs, mut yi, mut delta, mut err) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut cont = vec![vec![0.0; n]; 4];
-    let tol_newton = 0.03;
+    // Newton stops when the increment is below `KAPPA` in the tolerance-scaled norm, and
+    // gives up when it grows.
+    const KAPPA: f64 = 0.03;
+    const MAX_ITERATIONS: usize = 8;
     loop {
         let last = t + 1.01 * h >= tf;
         if last {
@@ -151,17 +155,25 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 }
                 rhs[k] = h * s;
             }
-            // Start from the previous stage's increment.
+            // Start from the previous stage's increment scaled to this stage's abscissa
+            // (Z_i ≈ c_i h f to first order), the first stage from h c_1 f(y). (Extrapolating
+            // the previous step's cubic instead saved no iterations on stiff chains.)
             if i > 0 {
                 let (done, rest) = z.split_at_mut(i);
-                rest[0].copy_from_slice(&done[i - 1]);
+                let scale = C[i] / C[i - 1];
+                for (zi, zp) in rest[0].iter_mut().zip(&done[i - 1]) {
+                    *zi = scale * zp;
+                }
             } else {
-                z[0].iter_mut().for_each(|v| *v = 0.0);
+                for (zi, f) in z[0].iter_mut().zip(&f0) {
+                    *zi = C[0] * h * f;
+                }
             }
             let mut previous = f64::INFINITY;
             let mut ok = false;
-            for iteration in 1..=8 {
+            for iteration in 1..=MAX_ITERATIONS {
                 max_iterations = max_iterations.max(iteration);
+                stats.newton_iterations += 1;
                 for k in 0..n {
                     yi[k] = y[k] + z[i][k];
                 }
@@ -179,7 +191,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     break;
                 }
                 previous = d;
-                if d <= tol_newton {
+                if d <= KAPPA {
                     ok = true;
                     break;
                 }
@@ -197,13 +209,18 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         if !converged {
             stats.rejected += 1;
             if fresh_jacobian {
+                // The Jacobian is current: shrink the step.
                 h *= 0.5;
+                if !newton.refactor(h * GAMMA) {
+                    return Err(OdeError::StepTooSmall { t, h });
+                }
             } else {
                 // Retry with a fresh Jacobian before shrinking the step.
                 fresh_jacobian = true;
-            }
-            if !newton.prepare(t, &y, &f0, h * GAMMA) {
-                return Err(OdeError::StepTooSmall { t, h });
+                stats.jacobians += 1;
+                if !newton.prepare(t, &y, &f0, h * GAMMA) {
+                    return Err(OdeError::StepTooSmall { t, h });
+                }
             }
             prepared_h = h;
             continue;
@@ -261,13 +278,16 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 stats.rhs_evaluations += newton.evaluations();
                 return Ok(stats);
             }
-            // Keep h (and the factorization) for small changes; a fresh Jacobian only when
-            // Newton needed many iterations (Hairer's strategy for SDIRK codes).
+            // Keep h (and the factorization) for small changes.
             if !(1.0..=1.2).contains(&factor) {
                 h *= factor;
             }
+            // A fresh Jacobian only when Newton needed many iterations; otherwise the old one
+            // serves (Hairer's strategy for SDIRK codes).
+            fresh_jacobian = false;
             if max_iterations > 3 {
-                fresh_jacobian = false;
+                fresh_jacobian = true;
+                stats.jacobians += 1;
                 if !newton.prepare(t, &y, &f0, h * GAMMA) {
                     return Err(OdeError::StepTooSmall { t, h });
                 }

@@ -218,6 +218,9 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     println!("  wall time        {:.3} s", r.wall_seconds);
     println!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
     println!("  rhs evaluations  {}", r.rhs_evaluations);
+    if r.jacobians > 0 {
+        println!("  newton           {} iterations, {} Jacobians", r.newton_iterations, r.jacobians);
+    }
     if let Some(t) = r.stiff_from {
         println!(
             "  note: from t = {t:.4} s the explicit steps were limited by stability, not accuracy: stiff hinges; integrator = \"sdirk4\" (implicit) suits this run better"

@@ -52,6 +52,10 @@ pub struct Stats {
     /// First time at which DOP853 found its step limited by stability rather than accuracy
     /// (Hairer's test: h·|λ| > 6.1 on 15 accepted steps in a row), if it did.
     pub stiff_from: Option<f64>,
+    /// Newton iterations (implicit methods).
+    pub newton_iterations: usize,
+    /// Jacobians formed (implicit methods).
+    pub jacobians: usize,
 }
 
 /// Why an integration stopped early.

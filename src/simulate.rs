@@ -120,6 +120,10 @@ pub struct RunReport {
     /// First time at which the explicit integrator found its step limited by stability (stiff
     /// hinges), if it did.
     pub stiff_from: Option<f64>,
+    /// Newton iterations (implicit path; zero otherwise).
+    pub newton_iterations: usize,
+    /// Jacobians formed (implicit path).
+    pub jacobians: usize,
     /// Number of other located law events (hysteresis branch changes, table data points
     /// crossed): counted, not kept, so memory stays flat in run length.
     pub branch_events: usize,
@@ -490,5 +494,7 @@ pub fn simulate(
         events: out.events,
         branch_events: out.branch_events,
         stiff_from: stats.stiff_from,
+        newton_iterations: stats.newton_iterations,
+        jacobians: stats.jacobians,
     })
 }

@@ -247,8 +247,20 @@ impl StreamOut<'_, '_, '_, '_> {
             if t_out > t_end + tol {
                 break;
             }
-            if (t_out - t_end).abs() <= tol {
+            if (t_out - t_end).abs() <= tol && self.momenta.is_none() {
                 self.emit(t_out, y_end)?;
+            } else if (t_out - t_end).abs() <= tol {
+                // A row at the step's end: the correction the integrator restarts from is
+                // applied to it too (it is made after the rows are out).
+                let mut y = std::mem::take(&mut self.buffer);
+                y.clear();
+                y.extend_from_slice(y_end);
+                if let Some((p0, h0)) = &self.momenta {
+                    self.dynamics.restore_momentum(&mut y, p0, h0);
+                }
+                let r = self.emit(t_out, &y);
+                self.buffer = y;
+                r?;
             } else {
                 let mut y = std::mem::take(&mut self.buffer);
                 y.resize(step.y.len(), 0.0);

@@ -219,7 +219,12 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     println!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
     println!("  rhs evaluations  {}", r.rhs_evaluations);
     if r.jacobians > 0 {
-        println!("  newton           {} iterations, {} Jacobians", r.newton_iterations, r.jacobians);
+        let how = if r.differenced_jacobians > 0 {
+            "by finite differences: locked directions are outside the exact Jacobian"
+        } else {
+            "exact, by dual numbers"
+        };
+        println!("  newton           {} iterations, {} Jacobians ({how})", r.newton_iterations, r.jacobians);
     }
     if let Some(t) = r.stiff_from {
         println!(

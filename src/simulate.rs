@@ -124,6 +124,9 @@ pub struct RunReport {
     pub newton_iterations: usize,
     /// Jacobians formed (implicit path).
     pub jacobians: usize,
+    /// Of those, formed by finite differences because the exact (dual-number) Jacobian does
+    /// not cover the model (locked directions).
+    pub differenced_jacobians: usize,
     /// Number of other located law events (hysteresis branch changes, table data points
     /// crossed): counted, not kept, so memory stays flat in run length.
     pub branch_events: usize,
@@ -461,10 +464,15 @@ pub fn simulate(
         momenta: matches!(settings.integrator, Integrator::Sdirk4 { .. }).then(|| dynamics.momenta(&y0)),
     };
     let start = Instant::now();
+    let mut differenced_jacobians = 0;
     let result = match settings.integrator {
         Integrator::Sdirk4 { rtol, atol } => {
             let mut newton = GraphNewton::new(&dynamics, model).with_exact(&dynamics);
-            integrate_sdirk4(&dynamics, &mut newton, rtol, atol, 0.0, settings.duration, &y0, |step| out.on_step(step))
+            let r = integrate_sdirk4(&dynamics, &mut newton, rtol, atol, 0.0, settings.duration, &y0, |step| {
+                out.on_step(step)
+            });
+            differenced_jacobians = newton.jacobian_counts().1;
+            r
         }
         other => {
             let method = match other {
@@ -508,5 +516,6 @@ pub fn simulate(
         stiff_from: stats.stiff_from,
         newton_iterations: stats.newton_iterations,
         jacobians: stats.jacobians,
+        differenced_jacobians,
     })
 }

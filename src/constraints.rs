@@ -89,8 +89,11 @@ pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler
 pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: &HingeKinematics, out: &mut Vec<Row>) {
     let (a_p, a_c) = (k.arm_parent_in_n, k.arm_child_in_n);
     let (w_p, w_c) = (p.omega_in_n, c.omega_in_n);
-    // The Euler-rate data shared by the hinge's rotational locks, computed once.
+    // The Euler-rate data shared by the hinge's rotational locks, and the velocity-product
+    // acceleration of A relative to the parent shared by its translational ones (γ = u · g),
+    // each computed once.
     let mut euler: Option<([Vec3; 3], Vec3, Vec3)> = None;
+    let mut relative: Option<Vec3> = None;
     for lock in locks {
         let mut row = Row {
             parent: h.parent,
@@ -110,9 +113,11 @@ pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: 
             row.ang_c = a_c.cross(&u);
             row.lin_p = -u;
             row.ang_p = -a_p.cross(&u);
-            let v_a = c.v_in_n + w_c.cross(&a_c);
-            let w = v_a - p.v_in_n - w_p.cross(&a_p);
-            let g = w_c.cross(&w_c.cross(&a_c)) - w_p.cross(&(v_a - p.v_in_n)) - w_p.cross(&w);
+            let g = *relative.get_or_insert_with(|| {
+                let v_a = c.v_in_n + w_c.cross(&a_c);
+                let w = v_a - p.v_in_n - w_p.cross(&a_p);
+                w_c.cross(&w_c.cross(&a_c)) - w_p.cross(&(v_a - p.v_in_n)) - w_p.cross(&w)
+            });
             row.gamma = u.dot(&g);
             row.error = k.state.delta_in_a0[lock.direction] - lock.target;
             row.rate = k.state.delta_rate_in_a0[lock.direction];

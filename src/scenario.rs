@@ -436,10 +436,47 @@ impl Scenario {
     /// As [`Scenario::from_toml`], resolving relative table paths against `base`.
     pub fn from_toml_in(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
         let ctx = Ctx { file, text, base };
-        let raw: RawScenario = toml::from_str(text).map_err(|e| ctx.at(e.span(), e.message().trim().to_string()))?;
+        let raw: RawScenario = toml::from_str(text).map_err(|e| {
+            let message = e.message().trim().to_string();
+            let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
+                Some(item) => format!("{item}: {message}"),
+                None => message,
+            };
+            ctx.at(e.span(), message)
+        })?;
         check_finite(&ctx)?;
         build(&ctx, raw)
     }
+}
+
+/// The `[[hinge]]` or `[[body]]` entry (as "hinge 'h1'") whose text contains byte `offset`,
+/// if any: parse errors inside one then name it, not only its line.
+fn enclosing_item(text: &str, offset: usize) -> Option<String> {
+    // Lines with their byte offsets; an item runs from its `[[…]]` header to the next header
+    // that is not one of its own sub-tables.
+    let mut lines = Vec::new();
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        lines.push((at, line.trim()));
+        at += line.len();
+    }
+    let starts_item =
+        |t: &str| t.starts_with("[[") || (t.starts_with('[') && !t.starts_with("[hinge.") && !t.starts_with("[body."));
+    let here = lines.iter().rposition(|(start, _)| *start <= offset)?;
+    let header = lines[..=here].iter().rposition(|(_, t)| starts_item(t))?;
+    let kind = match lines[header].1 {
+        "[[hinge]]" => "hinge",
+        "[[body]]" => "body",
+        _ => return None,
+    };
+    let name = lines[header + 1..]
+        .iter()
+        .take_while(|(_, t)| !starts_item(t))
+        .find_map(|(_, t)| t.strip_prefix("name")?.trim_start().strip_prefix('=').map(|v| v.trim().trim_matches('"')));
+    Some(match name {
+        Some(n) => format!("{kind} '{n}'"),
+        None => kind.to_string(),
+    })
 }
 
 fn positive(ctx: &Ctx<'_>, v: &Spanned<f64>, key: &str, unit: &str) -> Result<f64, ScenarioError> {

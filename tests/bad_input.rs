@@ -282,6 +282,12 @@ fn bad_directional_laws() {
         Some("directional"),
         &["lockd", "\"free\"", "\"locked\"", "k = "],
     );
+    // A key the parser does not know: the hinge is named, not only the line.
+    expect_error(
+        with(directional(&six.replace("rz = { k = 1.0 }", "rz = { k = 1.0, lock = true }"))),
+        Some("directional"),
+        &["hinge 'h1'", "lock", "locked"],
+    );
     let shorthand = GOOD.replacen(law, &directional(&six.replace("ry = { k = 1.0 }", "ry = \"free\"")), 1);
     assert!(Scenario::from_toml(&shorthand, "ok.toml").is_ok(), "ry = \"free\" is valid");
     expect_error(

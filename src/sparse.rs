@@ -387,6 +387,31 @@ mod tests {
     use crate::init::initial_state;
     use crate::scenario::Scenario;
 
+    /// Minimum-degree elimination makes no fill on a tree (a z-fold chain: two factor blocks
+    /// per hinge, L and U) and a bounded amount on a grid (6×6: 264 blocks for 61 hinges,
+    /// 2.2× the no-fill count; bound 3×).
+    #[test]
+    fn elimination_fill_follows_the_hinge_graph() {
+        use crate::generate::{Params, grid, zfold};
+        for (text, tree) in [(zfold(32, &Params::default()), true), (grid(6, 6, &Params::default()), false)] {
+            let s = Scenario::from_toml(&text, "generated").unwrap();
+            let (y, refs) = initial_state(&s.model, &s.initial);
+            let dynamics = Dynamics::new(&s.model, refs);
+            dynamics.initialize_memory(&y);
+            let mut f = vec![0.0; y.len()];
+            crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
+            let mut newton = GraphNewton::new(&dynamics, &s.model).with_exact(&dynamics);
+            assert!(newton.prepare(0.0, &y, &f, 1e-3));
+            assert_eq!(newton.jacobian_counts(), (1, 0), "exact Jacobian for law 2");
+            let pairs = 2 * s.model.hinges.len();
+            if tree {
+                assert_eq!(newton.fill_blocks(), pairs);
+            } else {
+                assert!(newton.fill_blocks() < 3 * pairs, "{} blocks for {pairs}", newton.fill_blocks());
+            }
+        }
+    }
+
     /// On the 3-panel case (a loop hinge, so elimination makes fill), the graph-sparse solve
     /// must match the dense one: both use forward-difference Jacobians (steps differ), so
     /// agreement to 1e-5 relative is what the differencing allows; a wrong block, colour or

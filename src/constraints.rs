@@ -18,7 +18,6 @@ use crate::dynamics::{HingeKinematics, hinge_kinematics};
 use crate::math::{Euler321, EulerTrig, Mat3, Vec3};
 use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
-use nalgebra::{DMatrix, DVector};
 
 /// One locked direction of one hinge.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,34 +143,13 @@ pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: 
     }
 }
 
-/// `J M⁻¹ Jᵀ` for the rows (dense).
-fn effective_mass(model: &Model, rows: &[Row], inertia_inv_in_n: &[Mat3]) -> DMatrix<f64> {
-    let m = rows.len();
-    DMatrix::from_fn(m, m, |r, s| coupling(model, &rows[r], &rows[s], inertia_inv_in_n))
-}
-
-/// `M⁻¹ Jᵀ λ` added to per-body (linear, angular) quantities.
-fn apply(
-    model: &Model,
-    rows: &[Row],
-    lambda: &DVector<f64>,
-    inertia_inv_in_n: &[Mat3],
-    lin: &mut [Vec3],
-    ang: &mut [Vec3],
-) {
-    for (row, &l) in rows.iter().zip(lambda.iter()) {
-        for (b, lv, wv) in [(row.parent, row.lin_p, row.ang_p), (row.child, row.lin_c, row.ang_c)] {
-            lin[b] += lv * (l / model.bodies[b].mass);
-            ang[b] += inertia_inv_in_n[b] * wv * l;
-        }
-    }
-}
-
-fn inertia_inverses(model: &Model, motions: &[BodyMotion]) -> Vec<Mat3> {
-    model.bodies.iter().zip(motions).map(|(b, m)| m.dcm_n_b * b.inertia_inv_in_body * m.dcm_n_b.transpose()).collect()
-}
-
-/// Work space for [`constrain_accelerations`], reused across evaluations.
+/// Work space for the multiplier solves, reused across evaluations.
+///
+/// `K = J M⁻¹ Jᵀ` couples only rows whose hinges share a body. It is assembled hinge pair by
+/// hinge pair into envelope storage — row i holds columns `first[i]..=i`, `first[i]` the
+/// first row of the earliest hinge sharing a body with row i's — and factored there
+/// (Cholesky makes no fill outside the envelope). Along a chain of locked hinges both the
+/// storage and the work are linear in the number of locks.
 #[derive(Debug, Default)]
 pub struct Workspace {
     /// Per row, body components: the parent's angular row part `[p N] j_ω`, then
@@ -180,63 +158,194 @@ pub struct Workspace {
     body: Vec<[Vec3; 6]>,
     /// Rows `start..end` of each hinge (rows of one hinge are contiguous).
     groups: Vec<(usize, usize)>,
-    /// Per row: the first column of its envelope (the first row of the earliest hinge that
-    /// shares a body with its own).
+    /// Hinges (indices into `groups`) met so far per body (emptied after use).
+    by_body: Vec<Vec<usize>>,
+    /// (hinge, earlier or same hinge sharing a body), sorted.
+    pairs: Vec<(usize, usize)>,
+    /// Per row: the first column of its envelope.
     first: Vec<usize>,
-    /// `J M⁻¹ Jᵀ`, row-major lower triangle within the envelope, then its Cholesky factor
-    /// in place (no fill outside the envelope).
+    /// Per row: where its envelope starts in `matrix`.
+    offset: Vec<usize>,
+    /// K's lower triangle within the envelope, row by row, then its Cholesky factor.
     matrix: Vec<f64>,
-    /// Reciprocals of the factor's diagonal.
+    /// Reciprocals of the factor's diagonal (the factorization and solves multiply rather
+    /// than divide: divisions would lengthen the latency chain several times).
     inv_diag: Vec<f64>,
+    /// Right-hand side, then the multipliers λ.
     lambda: Vec<f64>,
 }
 
-/// In-place Cholesky factorization of the row-major SPD matrix `a` (n×n) whose row `i`
-/// is zero left of column `first[i]` (an envelope, kept by the factor: no fill outside
-/// it). Reads and writes the lower triangle only; `inv_diag` receives the reciprocals of
-/// the factor's diagonal, so the factorization and the solves multiply rather than divide
-/// (divisions would make the latency chain several times longer).
-fn cholesky_in_place(a: &mut [f64], n: usize, first: &[usize], inv_diag: &mut Vec<f64>) -> bool {
-    inv_diag.clear();
-    for i in 0..n {
-        let fi = first[i];
-        for j in fi..i {
-            let f = fi.max(first[j]);
-            let mut v = a[i * n + j];
-            for k in f..j {
-                v -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = v * inv_diag[j];
-        }
-        let mut d = a[i * n + i];
-        for k in fi..i {
-            d -= a[i * n + k] * a[i * n + k];
-        }
-        if d.is_nan() || d <= 0.0 {
-            return false;
-        }
-        let d = d.sqrt();
-        a[i * n + i] = d;
-        inv_diag.push(1.0 / d);
+impl Workspace {
+    /// Entry (i, j), j in `first[i]..=i`, of the envelope storage.
+    #[inline]
+    fn at(&self, i: usize, j: usize) -> usize {
+        self.offset[i] + j - self.first[i]
     }
-    true
-}
 
-/// Solves `L Lᵀ x = b` in place for the factor from [`cholesky_in_place`].
-fn cholesky_solve(l: &[f64], n: usize, first: &[usize], inv_diag: &[f64], b: &mut [f64]) {
-    for i in 0..n {
-        let mut v = b[i];
-        for k in first[i]..i {
-            v -= l[i * n + k] * b[k];
+    /// Forms `M⁻¹ Jᵀ` for `rows` at `motions` and factors `K = J M⁻¹ Jᵀ`. Returns false if K
+    /// is singular (redundant locks).
+    fn factor(&mut self, model: &Model, rows: &[Row], motions: &[BodyMotion]) -> bool {
+        let bodies = &model.bodies;
+        // Per row and side: the angular part in body components, M⁻¹ Jᵀ (linear: N, angular:
+        // body components, I⁻¹ [b N] j_ω).
+        self.body.clear();
+        self.groups.clear();
+        for (i, r) in rows.iter().enumerate() {
+            let ang_p = motions[r.parent].dcm_n_b.tr_mul(&r.ang_p);
+            let ang_c = motions[r.child].dcm_n_b.tr_mul(&r.ang_c);
+            let (bp, bc) = (&bodies[r.parent], &bodies[r.child]);
+            self.body.push([
+                ang_p,
+                r.lin_p / bp.mass,
+                bp.inertia_inv_in_body * ang_p,
+                ang_c,
+                r.lin_c / bc.mass,
+                bc.inertia_inv_in_body * ang_c,
+            ]);
+            match self.groups.last_mut() {
+                Some((start, end)) if rows[*start].parent == r.parent && rows[*start].child == r.child => *end = i + 1,
+                _ => self.groups.push((i, i + 1)),
+            }
         }
-        b[i] = v * inv_diag[i];
+        // Which hinges each hinge meets (through the bodies' hinge lists: linear in the
+        // locks), and so the envelope.
+        let meets = |g: &(usize, usize), h: &(usize, usize)| {
+            let (pa, ca, pb, cb) = (rows[g.0].parent, rows[g.0].child, rows[h.0].parent, rows[h.0].child);
+            [pa == pb, pa == cb, ca == pb, ca == cb]
+        };
+        if self.by_body.len() < bodies.len() {
+            self.by_body.resize(bodies.len(), Vec::new());
+        }
+        self.pairs.clear();
+        for (gi, g) in self.groups.iter().enumerate() {
+            let (p, c) = (rows[g.0].parent, rows[g.0].child);
+            let start = self.pairs.len();
+            for &hi in self.by_body[p].iter().chain(&self.by_body[c]) {
+                self.pairs.push((gi, hi));
+            }
+            self.pairs.push((gi, gi));
+            self.pairs[start..].sort_unstable();
+            let mut k = start;
+            for j in start..self.pairs.len() {
+                if j == start || self.pairs[j] != self.pairs[k - 1] {
+                    self.pairs[k] = self.pairs[j];
+                    k += 1;
+                }
+            }
+            self.pairs.truncate(k);
+            self.by_body[p].push(gi);
+            self.by_body[c].push(gi);
+        }
+        for g in &self.groups {
+            self.by_body[rows[g.0].parent].clear();
+            self.by_body[rows[g.0].child].clear();
+        }
+        self.first.clear();
+        self.offset.clear();
+        let mut size = 0;
+        let mut pair = 0;
+        for (gi, g) in self.groups.iter().enumerate() {
+            // The pairs are sorted: this hinge's earliest partner comes first.
+            let first = self.groups[self.pairs[pair].1].0;
+            while pair < self.pairs.len() && self.pairs[pair].0 == gi {
+                pair += 1;
+            }
+            for i in g.0..g.1 {
+                self.first.push(first);
+                self.offset.push(size);
+                size += i - first + 1;
+            }
+        }
+        self.matrix.clear();
+        self.matrix.resize(size, 0.0);
+        for &(gi, hi) in &self.pairs {
+            let (g, h) = (self.groups[gi], self.groups[hi]);
+            let m = meets(&g, &h);
+            for r in g.0..g.1 {
+                let (ra, ba) = (&rows[r], &self.body[r]);
+                for s in h.0..h.1.min(r + 1) {
+                    let bb = &self.body[s];
+                    let mut v = 0.0;
+                    if m[0] {
+                        v += ra.lin_p.dot(&bb[1]) + ba[0].dot(&bb[2]);
+                    }
+                    if m[1] {
+                        v += ra.lin_p.dot(&bb[4]) + ba[0].dot(&bb[5]);
+                    }
+                    if m[2] {
+                        v += ra.lin_c.dot(&bb[1]) + ba[3].dot(&bb[2]);
+                    }
+                    if m[3] {
+                        v += ra.lin_c.dot(&bb[4]) + ba[3].dot(&bb[5]);
+                    }
+                    let k = self.offset[r] + s - self.first[r];
+                    self.matrix[k] = v;
+                }
+            }
+        }
+        self.cholesky()
     }
-    for i in (0..n).rev() {
-        let v = b[i] * inv_diag[i];
-        b[i] = v;
-        for k in first[i]..i {
-            b[k] -= l[i * n + k] * v;
+
+    /// Cholesky factorization of `matrix` in place, within the envelope.
+    fn cholesky(&mut self) -> bool {
+        let n = self.first.len();
+        self.inv_diag.clear();
+        for i in 0..n {
+            let fi = self.first[i];
+            for j in fi..i {
+                let f = fi.max(self.first[j]);
+                let (ri, rj) = (self.at(i, f), self.at(j, f));
+                let mut v = self.matrix[self.at(i, j)];
+                for k in 0..j - f {
+                    v -= self.matrix[ri + k] * self.matrix[rj + k];
+                }
+                let ij = self.at(i, j);
+                self.matrix[ij] = v * self.inv_diag[j];
+            }
+            let ri = self.offset[i];
+            let d = self.matrix[self.at(i, i)] - self.matrix[ri..ri + i - fi].iter().map(|x| x * x).sum::<f64>();
+            if d.is_nan() || d <= 0.0 {
+                return false;
+            }
+            let d = d.sqrt();
+            let ii = self.at(i, i);
+            self.matrix[ii] = d;
+            self.inv_diag.push(1.0 / d);
         }
+        true
+    }
+
+    /// Overwrites `self.lambda` (the right-hand side) with `K⁻¹` of it.
+    fn solve(&mut self) {
+        let n = self.lambda.len();
+        for i in 0..n {
+            let (fi, ri) = (self.first[i], self.offset[i]);
+            let mut v = self.lambda[i];
+            for (k, l) in (fi..i).zip(&self.matrix[ri..]) {
+                v -= l * self.lambda[k];
+            }
+            self.lambda[i] = v * self.inv_diag[i];
+        }
+        for i in (0..n).rev() {
+            let (fi, ri) = (self.first[i], self.offset[i]);
+            let v = self.lambda[i] * self.inv_diag[i];
+            self.lambda[i] = v;
+            for (k, l) in (fi..i).zip(&self.matrix[ri..]) {
+                self.lambda[k] -= l * v;
+            }
+        }
+    }
+
+    /// `M⁻¹ Jᵀ λ` per body: (linear, N components; angular, body components).
+    fn corrections(&self, rows: &[Row], nb: usize) -> Vec<(Vec3, Vec3)> {
+        let mut out = vec![(Vec3::zeros(), Vec3::zeros()); nb];
+        for ((row, b), &l) in rows.iter().zip(&self.body).zip(&self.lambda) {
+            out[row.parent].0 += b[1] * l;
+            out[row.parent].1 += b[2] * l;
+            out[row.child].0 += b[4] * l;
+            out[row.child].1 += b[5] * l;
+        }
+        out
     }
 }
 
@@ -244,10 +353,7 @@ fn cholesky_solve(l: &[f64], n: usize, first: &[usize], inv_diag: &[f64], b: &mu
 /// [`crate::state`]: `R̈` in N components, `ω̇` in body components) so that every locked
 /// coordinate has zero acceleration, given the locks' `rows` at this state (rows of one
 /// hinge contiguous). Works in each body's own components, so the free body loop's results
-/// are used as they are. `J M⁻¹ Jᵀ` couples only rows whose hinges share a body, so it is
-/// assembled hinge pair by hinge pair and factored within its envelope: for a chain of
-/// locked hinges, linear in their number. Returns false if `J M⁻¹ Jᵀ` is singular
-/// (redundant locks).
+/// are used as they are. Returns false if `J M⁻¹ Jᵀ` is singular (redundant locks).
 pub fn constrain_accelerations(
     model: &Model,
     rows: &[Row],
@@ -255,64 +361,8 @@ pub fn constrain_accelerations(
     dydt: &mut [f64],
     work: &mut Workspace,
 ) -> bool {
-    let n = rows.len();
-    let bodies = &model.bodies;
-    // Per row and side: the angular part in body components, M⁻¹ Jᵀ (linear: N, angular:
-    // body components, I⁻¹ [b N] j_ω).
-    work.body.clear();
-    work.groups.clear();
-    for (i, r) in rows.iter().enumerate() {
-        let ang_p = motions[r.parent].dcm_n_b.tr_mul(&r.ang_p);
-        let ang_c = motions[r.child].dcm_n_b.tr_mul(&r.ang_c);
-        let (bp, bc) = (&bodies[r.parent], &bodies[r.child]);
-        work.body.push([
-            ang_p,
-            r.lin_p / bp.mass,
-            bp.inertia_inv_in_body * ang_p,
-            ang_c,
-            r.lin_c / bc.mass,
-            bc.inertia_inv_in_body * ang_c,
-        ]);
-        match work.groups.last_mut() {
-            Some((start, end)) if rows[*start].parent == r.parent && rows[*start].child == r.child => *end = i + 1,
-            _ => work.groups.push((i, i + 1)),
-        }
-    }
-    work.first.clear();
-    work.first.resize(n, 0);
-    work.matrix.clear();
-    work.matrix.resize(n * n, 0.0);
-    for (g, &(ga, gb)) in work.groups.iter().enumerate() {
-        let (pa, ca) = (rows[ga].parent, rows[ga].child);
-        let mut first = ga;
-        for &(ha, hb) in work.groups[..=g].iter() {
-            let (pb, cb) = (rows[ha].parent, rows[ha].child);
-            // Which of this hinge's (parent, child) sides meet which of the other's.
-            let meets = [pa == pb, pa == cb, ca == pb, ca == cb];
-            if !meets.iter().any(|m| *m) {
-                continue;
-            }
-            first = first.min(ha);
-            for (r, (ra, ba)) in rows[ga..gb].iter().zip(&work.body[ga..gb]).enumerate().map(|(i, x)| (ga + i, x)) {
-                for (s, bb) in work.body[ha..hb.min(r + 1)].iter().enumerate().map(|(i, x)| (ha + i, x)) {
-                    let mut v = 0.0;
-                    if meets[0] {
-                        v += ra.lin_p.dot(&bb[1]) + ba[0].dot(&bb[2]);
-                    }
-                    if meets[1] {
-                        v += ra.lin_p.dot(&bb[4]) + ba[0].dot(&bb[5]);
-                    }
-                    if meets[2] {
-                        v += ra.lin_c.dot(&bb[1]) + ba[3].dot(&bb[2]);
-                    }
-                    if meets[3] {
-                        v += ra.lin_c.dot(&bb[4]) + ba[3].dot(&bb[5]);
-                    }
-                    work.matrix[r * n + s] = v;
-                }
-            }
-        }
-        work.first[ga..gb].fill(first);
+    if !work.factor(model, rows, motions) {
+        return false;
     }
     let at = |b: usize, off: usize| {
         let o = BODY_STATE_LEN * b + off;
@@ -326,10 +376,7 @@ pub fn constrain_accelerations(
             + r.lin_c.dot(&at(r.child, VEL))
             + b[3].dot(&at(r.child, OMEGA)))
     }));
-    if !cholesky_in_place(&mut work.matrix, n, &work.first, &mut work.inv_diag) {
-        return false;
-    }
-    cholesky_solve(&work.matrix, n, &work.first, &work.inv_diag, &mut work.lambda);
+    work.solve();
     for ((row, b), &l) in rows.iter().zip(&work.body).zip(&work.lambda) {
         for (body, lin, ang) in [(row.parent, b[1], b[2]), (row.child, b[4], b[5])] {
             let o = BODY_STATE_LEN * body;
@@ -342,24 +389,10 @@ pub fn constrain_accelerations(
     true
 }
 
-/// Entry of `J M⁻¹ Jᵀ` for two rows.
-fn coupling(model: &Model, ra: &Row, rb: &Row, inv: &[Mat3]) -> f64 {
-    let mut v = 0.0;
-    for (ba, la, wa) in [(ra.parent, ra.lin_p, ra.ang_p), (ra.child, ra.lin_c, ra.ang_c)] {
-        for (bb, lb, wb) in [(rb.parent, rb.lin_p, rb.ang_p), (rb.child, rb.lin_c, rb.ang_c)] {
-            if ba == bb {
-                v += la.dot(&lb) / model.bodies[ba].mass + wa.dot(&(inv[ba] * wb));
-            }
-        }
-    }
-    v
-}
-
 /// Whether the locks are independent here (`J M⁻¹ Jᵀ` positive definite); redundant locks,
 /// such as a closed loop of fully locked hinges, are not.
 pub fn independent(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler321]) -> bool {
-    let rows = rows(model, locks, motions, refs);
-    effective_mass(model, &rows, &inertia_inverses(model, motions)).cholesky().is_some()
+    Workspace::default().factor(model, &rows(model, locks, motions, refs), motions)
 }
 
 /// Drift of a locked coordinate (m or rad) or of its rate (m/s or rad/s) beyond which
@@ -379,24 +412,26 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], 
             return false;
         }
     }
+    let mut work = Workspace::default();
     for _ in 0..2 {
         let m = motions(y);
         let rows = rows(model, locks, &m, refs);
-        let inv = inertia_inverses(model, &m);
-        let Some(chol) = effective_mass(model, &rows, &inv).cholesky() else { return true };
-        let lambda = chol.solve(&DVector::from_iterator(rows.len(), rows.iter().map(|r| -r.error)));
-        let mut dp = vec![Vec3::zeros(); nb];
-        let mut dphi = vec![Vec3::zeros(); nb];
-        apply(model, &rows, &lambda, &inv, &mut dp, &mut dphi);
-        for i in 0..nb {
+        if !work.factor(model, &rows, &m) {
+            return true;
+        }
+        work.lambda.clear();
+        work.lambda.extend(rows.iter().map(|r| -r.error));
+        work.solve();
+        for (i, (dp, dphi_b)) in work.corrections(&rows, nb).into_iter().enumerate() {
             let s = &mut y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
             for k in 0..3 {
-                s[POS + k] += dp[i][k];
+                s[POS + k] += dp[k];
             }
             // q ← exp(δφ/2) ⊗ q with δφ in N components (a left rotation).
-            let angle = dphi[i].norm();
+            let dphi = m[i].dcm_n_b * dphi_b;
+            let angle = dphi.norm();
             if angle > 0.0 {
-                let axis = dphi[i] / angle;
+                let axis = dphi / angle;
                 let (sh, ch) = (0.5 * angle).sin_cos();
                 let dq = nalgebra::Quaternion::new(ch, sh * axis.x, sh * axis.y, sh * axis.z);
                 let q = nalgebra::Quaternion::new(s[QUAT], s[QUAT + 1], s[QUAT + 2], s[QUAT + 3]);
@@ -408,18 +443,15 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], 
     // Velocities: remove J V.
     let m = motions(y);
     let rows = rows(model, locks, &m, refs);
-    let inv = inertia_inverses(model, &m);
-    if let Some(chol) = effective_mass(model, &rows, &inv).cholesky() {
-        let lambda = chol.solve(&DVector::from_iterator(rows.len(), rows.iter().map(|r| -r.rate)));
-        let mut dv = vec![Vec3::zeros(); nb];
-        let mut dw = vec![Vec3::zeros(); nb];
-        apply(model, &rows, &lambda, &inv, &mut dv, &mut dw);
-        for i in 0..nb {
+    if work.factor(model, &rows, &m) {
+        work.lambda.clear();
+        work.lambda.extend(rows.iter().map(|r| -r.rate));
+        work.solve();
+        for (i, (dv, dw_b)) in work.corrections(&rows, nb).into_iter().enumerate() {
             let s = &mut y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
-            let w_b = m[i].dcm_n_b.transpose() * dw[i];
             for k in 0..3 {
-                s[VEL + k] += dv[i][k];
-                s[OMEGA + k] += w_b[k];
+                s[VEL + k] += dv[k];
+                s[OMEGA + k] += dw_b[k];
             }
         }
     }
@@ -429,6 +461,7 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::{DMatrix, DVector};
 
     /// The envelope Cholesky solve equals a dense solve on an SPD matrix with a staircase
     /// envelope (rows zero left of `first`), like a chain of locked hinges'.
@@ -451,12 +484,18 @@ mod tests {
         }
         let rhs = DVector::from_fn(n, |i, _| (i as f64).sin());
         let expected = dense.clone().cholesky().expect("SPD").solve(&rhs);
-        let mut a: Vec<f64> = (0..n * n).map(|k| dense[(k / n, k % n)]).collect();
-        let mut inv_diag = Vec::new();
-        assert!(cholesky_in_place(&mut a, n, &first, &mut inv_diag));
-        let mut x: Vec<f64> = rhs.iter().copied().collect();
-        cholesky_solve(&a, n, &first, &inv_diag, &mut x);
-        let err = x.iter().zip(expected.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let mut w = Workspace::default();
+        for i in 0..n {
+            w.first.push(first[i]);
+            w.offset.push(w.matrix.len());
+            for j in first[i]..=i {
+                w.matrix.push(dense[(i, j)]);
+            }
+        }
+        assert!(w.cholesky());
+        w.lambda = rhs.iter().copied().collect();
+        w.solve();
+        let err = w.lambda.iter().zip(expected.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(err < 1e-14, "{err}");
     }
 }

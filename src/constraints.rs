@@ -261,8 +261,7 @@ impl Workspace {
         for &(gi, hi) in &self.pairs {
             let (g, h) = (self.groups[gi], self.groups[hi]);
             let m = meets(&g, &h);
-            for r in g.0..g.1 {
-                let (ra, ba) = (&rows[r], &self.body[r]);
+            for (r, (ra, ba)) in rows.iter().zip(&self.body).enumerate().take(g.1).skip(g.0) {
                 for s in h.0..h.1.min(r + 1) {
                     let bb = &self.body[s];
                     let mut v = 0.0;

@@ -162,6 +162,9 @@ pub struct Workspace {
     by_body: Vec<Vec<usize>>,
     /// (hinge, earlier or same hinge sharing a body), sorted.
     pairs: Vec<(usize, usize)>,
+    /// Per hinge (start row, end row, parent, child): what `pairs`, `first` and `offset`
+    /// were computed for.
+    structure: Vec<(usize, usize, usize, usize)>,
     /// Per row: the first column of its envelope.
     first: Vec<usize>,
     /// Per row: where its envelope starts in `matrix`.
@@ -213,49 +216,56 @@ impl Workspace {
             let (pa, ca, pb, cb) = (rows[g.0].parent, rows[g.0].child, rows[h.0].parent, rows[h.0].child);
             [pa == pb, pa == cb, ca == pb, ca == cb]
         };
-        if self.by_body.len() < bodies.len() {
-            self.by_body.resize(bodies.len(), Vec::new());
-        }
-        self.pairs.clear();
-        for (gi, g) in self.groups.iter().enumerate() {
-            let (p, c) = (rows[g.0].parent, rows[g.0].child);
-            let start = self.pairs.len();
-            for &hi in self.by_body[p].iter().chain(&self.by_body[c]) {
-                self.pairs.push((gi, hi));
+        // The structure depends only on which hinges are locked: computed when it changes.
+        let key = self.groups.iter().map(|g| (g.0, g.1, rows[g.0].parent, rows[g.0].child));
+        if !key.clone().eq(self.structure.iter().copied()) {
+            self.structure.clear();
+            self.structure.extend(key);
+            if self.by_body.len() < bodies.len() {
+                self.by_body.resize(bodies.len(), Vec::new());
             }
-            self.pairs.push((gi, gi));
-            self.pairs[start..].sort_unstable();
-            let mut k = start;
-            for j in start..self.pairs.len() {
-                if j == start || self.pairs[j] != self.pairs[k - 1] {
-                    self.pairs[k] = self.pairs[j];
-                    k += 1;
+            self.pairs.clear();
+            for (gi, g) in self.groups.iter().enumerate() {
+                let (p, c) = (rows[g.0].parent, rows[g.0].child);
+                let start = self.pairs.len();
+                for &hi in self.by_body[p].iter().chain(&self.by_body[c]) {
+                    self.pairs.push((gi, hi));
+                }
+                self.pairs.push((gi, gi));
+                self.pairs[start..].sort_unstable();
+                let mut k = start;
+                for j in start..self.pairs.len() {
+                    if j == start || self.pairs[j] != self.pairs[k - 1] {
+                        self.pairs[k] = self.pairs[j];
+                        k += 1;
+                    }
+                }
+                self.pairs.truncate(k);
+                self.by_body[p].push(gi);
+                self.by_body[c].push(gi);
+            }
+            for g in &self.groups {
+                self.by_body[rows[g.0].parent].clear();
+                self.by_body[rows[g.0].child].clear();
+            }
+            self.first.clear();
+            self.offset.clear();
+            let mut size = 0;
+            let mut pair = 0;
+            for (gi, g) in self.groups.iter().enumerate() {
+                // The pairs are sorted: this hinge's earliest partner comes first.
+                let first = self.groups[self.pairs[pair].1].0;
+                while pair < self.pairs.len() && self.pairs[pair].0 == gi {
+                    pair += 1;
+                }
+                for i in g.0..g.1 {
+                    self.first.push(first);
+                    self.offset.push(size);
+                    size += i - first + 1;
                 }
             }
-            self.pairs.truncate(k);
-            self.by_body[p].push(gi);
-            self.by_body[c].push(gi);
         }
-        for g in &self.groups {
-            self.by_body[rows[g.0].parent].clear();
-            self.by_body[rows[g.0].child].clear();
-        }
-        self.first.clear();
-        self.offset.clear();
-        let mut size = 0;
-        let mut pair = 0;
-        for (gi, g) in self.groups.iter().enumerate() {
-            // The pairs are sorted: this hinge's earliest partner comes first.
-            let first = self.groups[self.pairs[pair].1].0;
-            while pair < self.pairs.len() && self.pairs[pair].0 == gi {
-                pair += 1;
-            }
-            for i in g.0..g.1 {
-                self.first.push(first);
-                self.offset.push(size);
-                size += i - first + 1;
-            }
-        }
+        let size = self.offset.last().map_or(0, |o| o + self.first.len() - self.first.last().unwrap_or(&0));
         self.matrix.clear();
         self.matrix.resize(size, 0.0);
         for &(gi, hi) in &self.pairs {

@@ -124,6 +124,9 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     upper: Vec<Vec<(usize, Block)>>,
     lower: Vec<Vec<(usize, Block)>>,
     evaluations: usize,
+    /// Scratch for [`NewtonMatrix::solve`]: `P r_x` and the twist unknowns per body.
+    p_rx: Vec<Vec7>,
+    twist: Vec<Vec6>,
 }
 
 impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
@@ -206,6 +209,8 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             upper: Vec::new(),
             lower: Vec::new(),
             evaluations: 0,
+            p_rx: Vec::new(),
+            twist: Vec::new(),
         }
     }
 
@@ -339,17 +344,19 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
         let h_gamma = self.h_gamma;
         let pose_of = |v: &[f64], b: usize| Vec7::from_column_slice(&v[B * b..B * b + X]);
         let twist_of = |v: &[f64], b: usize| Vec6::from_column_slice(&v[B * b + X..B * (b + 1)]);
-        // P r_x per body, then r_v += hγ Σ_j A_x[i][j] P_j r_x,j.
-        let p_rx: Vec<Vec7> = (0..self.nb).map(|b| self.pose[b].p_times(&pose_of(rhs, b), h_gamma)).collect();
-        let mut twist: Vec<Vec6> = (0..self.nb)
-            .map(|i| {
-                let mut r = twist_of(rhs, i);
-                for (slot, &j) in self.neighbours[i].iter().enumerate() {
-                    r += self.jac_x[i][slot] * p_rx[j] * h_gamma;
-                }
-                r
-            })
-            .collect();
+        // P r_x per body, then r_v += hγ Σ_j A_x[i][j] P_j r_x,j. (Scratch vectors kept
+        // across solves: for thousands of bodies a fresh allocation costs page faults.)
+        let (mut p_rx, mut twist) = (std::mem::take(&mut self.p_rx), std::mem::take(&mut self.twist));
+        p_rx.clear();
+        p_rx.extend((0..self.nb).map(|b| self.pose[b].p_times(&pose_of(rhs, b), h_gamma)));
+        twist.clear();
+        twist.extend((0..self.nb).map(|i| {
+            let mut r = twist_of(rhs, i);
+            for (slot, &j) in self.neighbours[i].iter().enumerate() {
+                r += self.jac_x[i][slot] * p_rx[j] * h_gamma;
+            }
+            r
+        }));
         // Forward: for p in order, x_i −= L[i][p] x_p.
         for &p in &self.order {
             let xp = twist[p];
@@ -372,6 +379,7 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             rhs[B * b + X..B * (b + 1)].copy_from_slice(twist[b].as_slice());
         }
         // Dissipation rows: identity (see the module documentation).
+        (self.p_rx, self.twist) = (p_rx, twist);
     }
 
     fn evaluations(&self) -> usize {

@@ -14,7 +14,8 @@
 //! a user would otherwise model a rigid direction with (2e5 N/m, 2e3 N·m/rad, damped, as
 //! the z-fold example's off-axis directions; one run).
 //! Prints the machine's load average, since these machines are shared.
-//! Run: `cargo bench --bench locks` (add `-- --quick` for a short pass).
+//! Run: `cargo bench --bench locks` (add `-- --quick` for a short pass, or
+//! `-- --profile CASE free|locked` with CASE 0, 1, 2 for one RHS loop under a profiler).
 
 use foldsim::dynamics::Dynamics;
 use foldsim::init::initial_state;

@@ -9,7 +9,8 @@
 //!
 //! Prints the machine's load average beside the figures, since these machines are shared.
 //! Run: `cargo bench --bench rhs` (about 10 minutes on 2 cores). Options after `--`:
-//! `--quick` (short budgets and windows), `--rhs` or `--wall` (one section), `--max N`.
+//! `--quick` (short budgets and windows), `--rhs` or `--wall` (one section), `--max N`,
+//! `--profile chain|grid N` (only that structure's RHS loop for 5 s, to run under a profiler).
 
 use foldsim::dynamics::Dynamics;
 use foldsim::generate::{Params, grid, zfold};

@@ -227,20 +227,11 @@ impl Workspace {
             self.pairs.clear();
             for (gi, g) in self.groups.iter().enumerate() {
                 let (p, c) = (rows[g.0].parent, rows[g.0].child);
-                let start = self.pairs.len();
-                for &hi in self.by_body[p].iter().chain(&self.by_body[c]) {
-                    self.pairs.push((gi, hi));
-                }
-                self.pairs.push((gi, gi));
-                self.pairs[start..].sort_unstable();
-                let mut k = start;
-                for j in start..self.pairs.len() {
-                    if j == start || self.pairs[j] != self.pairs[k - 1] {
-                        self.pairs[k] = self.pairs[j];
-                        k += 1;
-                    }
-                }
-                self.pairs.truncate(k);
+                let mut partners: Vec<usize> = self.by_body[p].iter().chain(&self.by_body[c]).copied().collect();
+                partners.push(gi);
+                partners.sort_unstable();
+                partners.dedup();
+                self.pairs.extend(partners.into_iter().map(|hi| (gi, hi)));
                 self.by_body[p].push(gi);
                 self.by_body[c].push(gi);
             }

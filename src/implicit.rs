@@ -113,10 +113,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut f0 = vec![0.0; n];
     system.rhs(t, &y, &mut f0);
     stats.rhs_evaluations += 1;
-    {
-        let cont = vec![y.clone(), vec![0.0; n], vec![0.0; n], vec![0.0; n]];
-        on_step(&Step::hermite(t0, t0, &y, &cont)).map_err(OdeError::Callback)?;
-    }
+    crate::ode::announce_start(t0, &y, &mut on_step)?;
     let mut h = (1e-3 * (tf - t0)).min(1e-2);
     let mut fresh_jacobian = true;
     stats.jacobians += 1;

@@ -481,6 +481,19 @@ fn stage_point(out: &mut [f64], y: &[f64], h: f64, a: &[f64], k: &[Vec<f64>]) {
     }
 }
 
+/// Calls `on_step` once at `t0` with a zero-length step at `y` (its [`Control`] is ignored),
+/// as every integrator does before its first step.
+pub(crate) fn announce_start<E>(
+    t0: f64,
+    y: &[f64],
+    on_step: &mut impl FnMut(&Step<'_>) -> Result<Control, E>,
+) -> Result<(), OdeError<E>> {
+    let n = y.len();
+    let cont = vec![y.to_vec(), vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+    on_step(&Step { t_prev: t0, t: t0, y, kind: DenseKind::Hermite, cont: &cont }).map_err(OdeError::Callback)?;
+    Ok(())
+}
+
 /// Integrates from `t0` to `tf`, calling `on_step` after every accepted step (and once at
 /// `t0` with a zero-length step, whose [`Control`] is ignored). The callback may stop the run
 /// by returning an error, or restart it from a point inside the step.
@@ -492,14 +505,9 @@ pub fn integrate<S: OdeSystem + ?Sized, E>(
     y0: &[f64],
     mut on_step: impl FnMut(&Step<'_>) -> Result<Control, E>,
 ) -> Result<Stats, OdeError<E>> {
-    let n = y0.len();
     let mut stats = Stats::default();
     let mut y = y0.to_vec();
-    {
-        let cont = vec![y.clone(), vec![0.0; n], vec![0.0; n], vec![0.0; n]];
-        let start = Step { t_prev: t0, t: t0, y: &y, kind: DenseKind::Hermite, cont: &cont };
-        on_step(&start).map_err(OdeError::Callback)?;
-    }
+    announce_start(t0, &y, &mut on_step)?;
     match method {
         Method::Rk4 { step } => fixed_rk4(system, step, t0, tf, &mut y, &mut stats, &mut on_step)?,
         Method::Dopri5 { rtol, atol } => {

@@ -209,6 +209,24 @@ pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
     }
 }
 
+/// The two wrench methods of [`HingeLaw`] for a law whose `wrench_t` is generic over the
+/// scalar: f64 for the right-hand side, dual numbers for the Jacobian.
+macro_rules! generic_wrench {
+    () => {
+        fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
+            self.wrench_t(state)
+        }
+
+        fn wrench_dual(
+            &self,
+            state: &HingeState<JacobianDual>,
+            _memory: &LawMemory,
+        ) -> Option<HingeWrench<JacobianDual>> {
+            Some(self.wrench_t(state))
+        }
+    };
+}
+
 /// Stiffness and damping matrices shared by laws 1 and 2 of MODEL.md §4.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinearGains {
@@ -281,13 +299,7 @@ impl PaperLinear {
 }
 
 impl HingeLaw for PaperLinear {
-    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
-        self.wrench_t(state)
-    }
-
-    fn wrench_dual(&self, state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
-        Some(self.wrench_t(state))
-    }
+    generic_wrench!();
 
     fn stored_energy(&self, state: &HingeState, _memory: &LawMemory) -> f64 {
         self.gains.spring_energy(state)
@@ -333,13 +345,7 @@ impl EulerPotential {
 }
 
 impl HingeLaw for EulerPotential {
-    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
-        self.wrench_t(state)
-    }
-
-    fn wrench_dual(&self, state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
-        Some(self.wrench_t(state))
-    }
+    generic_wrench!();
 
     fn stored_energy(&self, state: &HingeState, _memory: &LawMemory) -> f64 {
         self.gains.spring_energy(state)
@@ -380,13 +386,7 @@ impl RotationVectorLinear {
 }
 
 impl HingeLaw for RotationVectorLinear {
-    fn wrench(&self, state: &HingeState, _memory: &LawMemory) -> HingeWrench {
-        self.wrench_t(state)
-    }
-
-    fn wrench_dual(&self, state: &HingeState<JacobianDual>, _memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
-        Some(self.wrench_t(state))
-    }
+    generic_wrench!();
 
     fn stored_energy(&self, state: &HingeState, _memory: &LawMemory) -> f64 {
         let r = rotation_vector(&state.dcm_a_a0);

@@ -186,8 +186,13 @@ struct StreamOut<'d, 'm, 's, 'p> {
     same_instant: (f64, usize),
     /// An event located inside the last step, which the integrator is retaking to end there.
     pending: Option<(usize, f64)>,
-    /// Initial momenta, held exactly after every step when set (the implicit path).
+    /// Initial momenta, restored after every step (the implicit path) or after every drift
+    /// projection of locked directions (which moves positions at fixed velocities, and so
+    /// changes the angular momentum by up to the drift times the momenta).
     momenta: Option<(crate::math::Vec3, crate::math::Vec3)>,
+    /// Whether the momenta are restored after every step, output rows included (the implicit
+    /// path), rather than only after projections.
+    restore_every_step: bool,
 }
 
 /// Output times `k · step` below `end`, then `end`.
@@ -250,7 +255,7 @@ impl StreamOut<'_, '_, '_, '_> {
             if t_out > t_end + tol {
                 break;
             }
-            if (t_out - t_end).abs() <= tol && self.momenta.is_none() {
+            if (t_out - t_end).abs() <= tol && !self.restore_every_step {
                 self.emit(t_out, y_end)?;
             } else if (t_out - t_end).abs() <= tol {
                 // A row at the step's end: the correction the integrator restarts from is
@@ -268,7 +273,7 @@ impl StreamOut<'_, '_, '_, '_> {
                 let mut y = std::mem::take(&mut self.buffer);
                 y.resize(step.y.len(), 0.0);
                 step.interpolate(t_out, &mut y);
-                if let Some((p0, h0)) = &self.momenta {
+                if let (Some((p0, h0)), true) = (&self.momenta, self.restore_every_step) {
                     // The interpolant between momentum-corrected step ends gets the same
                     // rigid-body correction (internal motion untouched).
                     self.dynamics.restore_momentum(&mut y, p0, h0);
@@ -397,7 +402,7 @@ impl StreamOut<'_, '_, '_, '_> {
                 p(step.t);
             }
             let mut y = step.y.to_vec();
-            self.dynamics.project(&mut y, false);
+            self.correct(&mut y);
             return Ok(Control::Restart { t: step.t, y });
         }
         self.emit_until(step, step.t, step.y)?;
@@ -412,16 +417,24 @@ impl StreamOut<'_, '_, '_, '_> {
         }
         if step.t > step.t_prev && (self.dynamics.has_locks() || self.momenta.is_some()) {
             let mut y = step.y.to_vec();
-            // Hold locked directions on their constraints once they drift.
-            let mut changed = self.dynamics.project(&mut y, false);
-            if let Some((p0, h0)) = &self.momenta {
-                changed |= self.dynamics.restore_momentum(&mut y, p0, h0) > 1e-15;
-            }
-            if changed {
+            if self.correct(&mut y) {
                 return Ok(Control::Restart { t: step.t, y });
             }
         }
         Ok(Control::Continue)
+    }
+
+    /// Holds locked directions on their constraints once they drift, and the momenta where
+    /// that or the integrator moved them. Returns whether `y` changed.
+    fn correct(&self, y: &mut [f64]) -> bool {
+        let projected = self.dynamics.project(y, false);
+        let mut changed = projected;
+        if let Some((p0, h0)) = &self.momenta {
+            if projected || self.restore_every_step {
+                changed |= self.dynamics.restore_momentum(y, p0, h0) > 1e-15;
+            }
+        }
+        changed
     }
 }
 
@@ -441,6 +454,7 @@ pub fn simulate(
     // Initial rates along locked directions are removed (positions hold by construction).
     dynamics.project(&mut y0, true);
     let n_events = dynamics.event_count();
+    let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
     let mut out = StreamOut {
         dynamics: &dynamics,
         observer: Observer::new(ic.hub_attitude),
@@ -459,9 +473,11 @@ pub fn simulate(
         branch_events: 0,
         same_instant: (f64::NAN, 0),
         pending: None,
-        // The implicit method conserves momentum only to its tolerance; a rigid-body velocity
-        // correction after each step holds it exactly without touching the internal motion.
-        momenta: matches!(settings.integrator, Integrator::Sdirk4 { .. }).then(|| dynamics.momenta(&y0)),
+        // The implicit method conserves momentum only to its tolerance, and the projection
+        // of locked directions moves positions; a rigid-body velocity correction holds the
+        // momenta exactly without touching the internal motion (or the locked rates).
+        momenta: (implicit || dynamics.has_locks()).then(|| dynamics.momenta(&y0)),
+        restore_every_step: implicit,
     };
     let start = Instant::now();
     let mut differenced_jacobians = 0;

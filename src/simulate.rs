@@ -429,10 +429,10 @@ impl StreamOut<'_, '_, '_, '_> {
     fn correct(&self, y: &mut [f64]) -> bool {
         let projected = self.dynamics.project(y, false);
         let mut changed = projected;
-        if let Some((p0, h0)) = &self.momenta {
-            if projected || self.restore_every_step {
-                changed |= self.dynamics.restore_momentum(y, p0, h0) > 1e-15;
-            }
+        if let Some((p0, h0)) = &self.momenta
+            && (projected || self.restore_every_step)
+        {
+            changed |= self.dynamics.restore_momentum(y, p0, h0) > 1e-15;
         }
         changed
     }

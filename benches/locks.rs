@@ -7,15 +7,18 @@
 //!   planar, so both variants follow the same motion.
 //! - `examples/hinged-panels-1dof.toml`, 300 s: five directions locked vs free (free, the
 //!   panels drift apart: a different motion, reported for completeness).
+//! - the z-fold example with its five off-axis directions at the stiffness DESIGN.md calls
+//!   normal for real hinges (1e7 N/m, 1e5 N·m/rad), rtol = atol = 1e-8, with DOP853 and
+//!   with SDIRK4 (free, the panels drift apart).
 //!
 //! For each: the cost of one right-hand-side evaluation at the initial state, and the
 //! whole run's wall time (median of alternating repetitions), with the RHS count; ratios
-//! are to the free variant. A third variant, `stiff`, replaces the lock by the stiff spring
-//! a user would otherwise model a rigid direction with (2e5 N/m, 2e3 N·m/rad, damped, as
-//! the z-fold example's off-axis directions; one run).
+//! are to the free variant. A third variant, `stiff`, replaces the lock by the spring a
+//! user would otherwise model a rigid direction with (the z-fold example's own off-axis
+//! springs, 2e5 N/m and 2e3 N·m/rad, damped; or the stiffer ones of the last cases; one run).
 //! Prints the machine's load average, since these machines are shared.
 //! Run: `cargo bench --bench locks` (add `-- --quick` for a short pass, or
-//! `-- --profile CASE free|locked` with CASE 0, 1, 2 for one RHS loop under a profiler).
+//! `-- --profile CASE free|locked` with CASE 0 … 4 for one RHS loop under a profiler).
 
 use foldsim::dynamics::Dynamics;
 use foldsim::init::initial_state;
@@ -30,21 +33,45 @@ fn load() -> String {
         .unwrap_or_default()
 }
 
+/// Springs for the `stiff` variant: (translational, rotational) law entries.
+const EXAMPLE_SPRINGS: (&str, &str) = ("k = 2e5, damping = 20.0", "k = 2e3, damping = 0.5");
+const DESIGN_SPRINGS: (&str, &str) = ("k = 1e7, damping = 100.0", "k = 1e5, damping = 5.0");
+
+/// One bench case: name, example file, directions changed, duration (s), springs of the
+/// `stiff` variant, and other `[run]` settings replaced (key, value).
+type Case = (
+    &'static str,
+    &'static str,
+    &'static [&'static str],
+    f64,
+    (&'static str, &'static str),
+    &'static [(&'static str, &'static str)],
+);
+
 /// The example `file` with every hinge's `directions` set to `response` (`free`, `locked`,
-/// or `stiff`: 2e5 N/m and 2e3 N·m/rad with the z-fold example's damping, the springs that
-/// example uses for its off-axis directions) and the run cut to `duration` s.
-fn variant(file: &str, directions: &[&str], response: &str, duration: f64) -> Scenario {
+/// or `stiff`: the `springs`) and the run cut to `duration` s, with the `[run]` keys of
+/// `settings` replaced.
+fn variant(
+    file: &str,
+    directions: &[&str],
+    response: &str,
+    duration: f64,
+    springs: (&str, &str),
+    settings: &[(&str, &str)],
+) -> Scenario {
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
     let text = std::fs::read_to_string(examples.join(file)).expect("example exists");
     let mut out = String::new();
     for line in text.lines() {
         let key = line.split('=').next().unwrap_or("").trim();
         if directions.contains(&key) && line.trim_start().starts_with(key) {
-            let spring = if key.starts_with('r') { "k = 2e3, damping = 0.5" } else { "k = 2e5, damping = 20.0" };
+            let spring = if key.starts_with('r') { springs.1 } else { springs.0 };
             let r = if response == "stiff" { spring.to_string() } else { format!("{response} = true") };
             out.push_str(&format!("{key} = {{ {r} }}\n"));
         } else if key == "duration" {
             out.push_str(&format!("duration = {duration}\n"));
+        } else if let Some((k, v)) = settings.iter().find(|(k, _)| *k == key) {
+            out.push_str(&format!("{k} = {v}\n"));
         } else {
             out.push_str(line);
             out.push('\n');
@@ -90,23 +117,28 @@ fn main() {
         "{:<34} {:>7} {:>12} {:>12} {:>10} {:>12} {:>8}",
         "case", "variant", "µs/rhs", "rhs ratio", "rhs evals", "run wall s", "ratio"
     );
-    let cases: [(&str, &str, &[&str], f64); 3] = [
-        ("zfold-tape-latch, z", "zfold-tape-latch.toml", &["z"], 10.0),
-        ("zfold-tape-latch, z rx ry", "zfold-tape-latch.toml", &["z", "rx", "ry"], 10.0),
-        ("hinged-panels-1dof, x y z rx ry", "hinged-panels-1dof.toml", &["x", "y", "z", "rx", "ry"], 300.0),
+    const OFF_AXIS: &[&str] = &["x", "y", "z", "rx", "ry"];
+    const TIGHT: &[(&str, &str)] = &[("rtol", "1e-8"), ("atol", "1e-8")];
+    const TIGHT_IMPLICIT: &[(&str, &str)] = &[("rtol", "1e-8"), ("atol", "1e-8"), ("integrator", "\"sdirk4\"")];
+    let cases: [Case; 5] = [
+        ("zfold-tape-latch, z", "zfold-tape-latch.toml", &["z"], 10.0, EXAMPLE_SPRINGS, &[]),
+        ("zfold-tape-latch, z rx ry", "zfold-tape-latch.toml", &["z", "rx", "ry"], 10.0, EXAMPLE_SPRINGS, &[]),
+        ("hinged-panels-1dof, x y z rx ry", "hinged-panels-1dof.toml", OFF_AXIS, 300.0, EXAMPLE_SPRINGS, &[]),
+        ("zfold 1e7/1e5, x y z rx ry, dop853", "zfold-tape-latch.toml", OFF_AXIS, 10.0, DESIGN_SPRINGS, TIGHT),
+        ("zfold 1e7/1e5, x y z rx ry, sdirk4", "zfold-tape-latch.toml", OFF_AXIS, 10.0, DESIGN_SPRINGS, TIGHT_IMPLICIT),
     ];
     // `-- --profile CASE_INDEX free|locked`: only that case's RHS loop, for a profiler.
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--profile") {
-        let (_, file, dirs, duration) = cases[args[i + 1].parse::<usize>().expect("case index")];
-        let s = variant(file, dirs, &args[i + 2], duration);
+        let (_, file, dirs, duration, springs, settings) = cases[args[i + 1].parse::<usize>().expect("case index")];
+        let s = variant(file, dirs, &args[i + 2], duration, springs, settings);
         println!("{:.3} µs/rhs", rhs_cost(&s, 3.0) * 1e6);
         return;
     }
-    for (name, file, dirs, duration) in cases {
-        let free = variant(file, dirs, "free", duration);
-        let locked = variant(file, dirs, "locked", duration);
-        let stiff = variant(file, dirs, "stiff", duration);
+    for (name, file, dirs, duration, springs, settings) in cases {
+        let free = variant(file, dirs, "free", duration, springs, settings);
+        let locked = variant(file, dirs, "locked", duration, springs, settings);
+        let stiff = variant(file, dirs, "stiff", duration, springs, settings);
         let (mut cost_free, mut cost_locked) = (Vec::new(), Vec::new());
         let (mut wall_free, mut wall_locked) = (Vec::new(), Vec::new());
         let (mut n_free, mut n_locked) = (0, 0);

@@ -291,7 +291,12 @@ impl<'m> Dynamics<'m> {
         }
     }
 
-    /// Whether any hinge direction is locked.
+    /// The locked directions, grouped by hinge.
+    pub fn locks(&self) -> std::cell::Ref<'_, Vec<Lock>> {
+        self.locks.borrow()
+    }
+
+    /// Whether any direction is locked.
     pub fn has_locks(&self) -> bool {
         !self.locks.borrow().is_empty()
     }

@@ -244,6 +244,12 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         rel(d.angular_momentum, d.angular_momentum_scale)
     );
     println!("    barycenter          {:.3e} m", d.barycenter);
+    if d.locks > 0 {
+        println!(
+            "    locked directions   {} held within {:.3e} m and {:.3e} rad of their initial values",
+            d.locks, d.locked_translation, d.locked_rotation
+        );
+    }
     let e_rel = rel(d.energy, d.energy_initial.abs());
     let scale = d.energy_initial.abs().max(d.dissipated.abs());
     if r.energy_conserving {

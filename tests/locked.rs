@@ -154,15 +154,16 @@ fn long_locked_chain_holds_its_locks() {
     );
 }
 
-/// The drift projection of locked directions moves positions at fixed velocities, which
-/// changes the angular momentum by up to the drift times the momenta; the run restores the
-/// momenta after each projection. The z-fold tape-spring example with its five off-axis
-/// directions locked, at rtol = atol = 1e-8 (large steps, so the locked coordinates drift
-/// past the projection threshold often): |ΔH| stays within 5e-9 of its scale. Without the
-/// restoration it reaches 7e-8; with it, what remains is the integrator's own error at that
-/// tolerance, 3.5e-10 (both measured when this test was written).
+/// At a loose tolerance the locked coordinates drift by up to the local error within a step,
+/// and the projection that brings them back moves positions at fixed velocities, changing
+/// the angular momentum. The z-fold tape-spring example with its five off-axis directions
+/// locked, at rtol = atol = 1e-8 (large steps): every output row holds the locks within the
+/// issue's 1e-9 (rows are projected too; unprojected, the dense output's rows were off by
+/// 1.5e-8 m), and |ΔH| stays within 1e-10 of its scale (the momenta are restored after each
+/// projection; without that 7e-8, with it but unprojected rows 3.5e-10, now 1e-11; P is
+/// conserved to round-off either way).
 #[test]
-fn lock_projection_keeps_the_momenta() {
+fn locks_hold_at_loose_tolerance() {
     let dir = repo("examples");
     let text = std::fs::read_to_string(dir.join("zfold-tape-latch.toml")).unwrap();
     let text: String = text
@@ -180,9 +181,23 @@ fn lock_projection_keeps_the_momenta() {
         .collect::<Vec<_>>()
         .join("\n");
     let s = foldsim::scenario::Scenario::from_toml_in(&text, "locked z-fold", &dir).unwrap();
-    let (_, _, report) = run(&s);
+    let (table, _, report) = run(&s);
+    let mut locked = 0.0f64;
+    for h in &s.model.hinges {
+        for c in ["delta_x", "delta_y", "delta_z", "pitch", "roll"] {
+            let i = table.col(&format!("{}_{c}", h.name));
+            let first = table.rows[0][i];
+            locked = locked.max(table.rows.iter().map(|r| (r[i] - first).abs()).fold(0.0, f64::max));
+        }
+    }
     let d = &report.drift;
     let (p, h) = (d.momentum / d.momentum_scale, d.angular_momentum / d.angular_momentum_scale);
-    eprintln!("locked z-fold at rtol 1e-8: |ΔP| {p:e}, |ΔH| {h:e} of their scales");
-    assert!(p <= 5e-9 && h <= 5e-9, "momenta moved: P {p:e}, H {h:e}");
+    eprintln!(
+        "locked z-fold at rtol 1e-8: locked motion {locked:e} (reported {:e} m, {:e} rad), |ΔP| {p:e}, |ΔH| {h:e} of their scales",
+        d.locked_translation, d.locked_rotation
+    );
+    assert_eq!(d.locks, 20);
+    assert!(locked < 1e-9, "locked directions moved {locked:e}");
+    assert!(d.locked_translation.max(d.locked_rotation) < 1e-9);
+    assert!(p <= 1e-10 && h <= 1e-10, "momenta moved: P {p:e}, H {h:e}");
 }

@@ -16,6 +16,11 @@
 //! are to the free variant. A third variant, `stiff`, replaces the lock by the spring a
 //! user would otherwise model a rigid direction with (the z-fold example's own off-axis
 //! springs, 2e5 N/m and 2e3 N·m/rad, damped; or the stiffer ones of the last cases; one run).
+//!
+//! Then the scaling of the lock solve with a hub holding N panels on hinges locked in five
+//! directions (every lock row couples through the hub: `J M⁻¹ Jᵀ` is dense, so the solve
+//! eliminates along the tree of locked hinges instead): cost per RHS and per lock for
+//! N = 8 … 512.
 //! Prints the machine's load average, since these machines are shared.
 //! Run: `cargo bench --bench locks` (add `-- --quick` for a short pass, or
 //! `-- --profile CASE free|locked` with CASE 0 … 4 for one RHS loop under a profiler).
@@ -78,6 +83,28 @@ fn variant(
         }
     }
     Scenario::from_toml_in(&out, file, &examples).expect("variant is valid")
+}
+
+/// A 500 kg hub with `n` 2 kg panels around it, each on a hinge locked in five directions
+/// with a 1 N·m/rad fold spring, folds 10–29°.
+fn star(n: usize) -> Scenario {
+    let mut t =
+        String::from("[run]\nduration = 1.0\noutput_step = 0.1\nintegrator = \"dop853\"\nrtol = 1e-8\natol = 1e-8\n");
+    t += "[[body]]\nname = \"hub\"\nmass = 500.0\ninertia = [300.0, 300.0, 300.0]\n";
+    for i in 0..n {
+        t += &format!("[[body]]\nname = \"p{i}\"\nmass = 2.0\ninertia = [0.1, 0.2, 0.2]\n");
+    }
+    for i in 0..n {
+        let a = 360.0 * i as f64 / n as f64;
+        let (x, y) = (2.0 * a.to_radians().cos(), 2.0 * a.to_radians().sin());
+        t += &format!(
+            "[[hinge]]\nname = \"h{i}\"\nparent = \"hub\"\nchild = \"p{i}\"\na0 = {{ position = [{x}, {y}, 0.0], yaw_deg = {a} }}\na = {{ child_com = [0.5, 0.0, 0.0] }}\nlaw = {{ type = \"directional\", angles = \"euler\", x = \"locked\", y = \"locked\", z = \"locked\", rx = \"locked\", ry = \"locked\", rz = {{ k = 1.0 }} }}\n"
+        );
+    }
+    for i in 0..n {
+        t += &format!("[initial.hinge.h{i}]\nyaw_deg = {}\n", 10 + (i * 7) % 20);
+    }
+    Scenario::from_toml(&t, "star").expect("star scenario is valid")
 }
 
 /// Seconds per right-hand-side evaluation at the scenario's initial state.
@@ -172,6 +199,13 @@ fn main() {
             cost_stiff / cf,
             wall_stiff / wf
         );
+    }
+    println!("\nhub with N panels, five locked directions per hinge:");
+    println!("{:>6} {:>8} {:>12} {:>14}", "N", "locks", "µs/rhs", "ns/lock/rhs");
+    for n in [8, 32, 128, 512] {
+        let s = star(n);
+        let c = rhs_cost(&s, budget);
+        println!("{n:>6} {:>8} {:>12.2} {:>14.1}", 5 * n, c * 1e6, c * 1e9 / (5 * n) as f64);
     }
     println!("\nload average after: {}", load());
 }

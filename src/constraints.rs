@@ -796,20 +796,9 @@ mod tests {
     fn forest_elimination_matches_envelope_solve() {
         use crate::dynamics::Dynamics;
         use crate::init::initial_state;
-        use crate::scenario::Scenario;
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-        let zfold = std::fs::read_to_string(dir.join("zfold-tape-latch.toml")).unwrap();
-        let zfold: String = zfold
-            .lines()
-            .map(|l| match l.split('=').next().unwrap_or("").trim() {
-                k @ ("x" | "z" | "ry") => format!("{k} = \"locked\""),
-                _ => l.to_string(),
-            })
-            .collect::<Vec<_>>()
-            .join("\n");
-        let one_dof = std::fs::read_to_string(dir.join("hinged-panels-1dof.toml")).unwrap();
-        for (text, chain) in [(zfold, true), (one_dof, false)] {
-            let s = Scenario::from_toml_in(&text, "locks", &dir).unwrap();
+        let zfold = crate::scenario::example_with("zfold-tape-latch.toml", &["x", "z", "ry"], "\"locked\"");
+        let one_dof = crate::scenario::example_with("hinged-panels-1dof.toml", &[], "");
+        for (s, chain) in [(zfold, true), (one_dof, false)] {
             let (y, refs) = initial_state(&s.model, &s.initial);
             let dynamics = Dynamics::new(&s.model, refs);
             dynamics.initialize_memory(&y);

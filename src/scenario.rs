@@ -1094,3 +1094,20 @@ fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError
     };
     ctx.at(span, e.message)
 }
+
+/// The shipped example `file` (in `examples/`) with the lines whose key is in `keys` replaced
+/// by `key = value`: for tests that vary one example.
+#[cfg(test)]
+pub(crate) fn example_with(file: &str, keys: &[&str], value: &str) -> Scenario {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let text = std::fs::read_to_string(dir.join(file)).expect("example exists");
+    let text: String = text
+        .lines()
+        .map(|l| {
+            let key = l.split('=').next().unwrap_or("").trim();
+            if keys.contains(&key) { format!("{key} = {value}") } else { l.to_string() }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    Scenario::from_toml_in(&text, file, &dir).expect("variant is valid")
+}

@@ -488,17 +488,7 @@ mod tests {
     /// O(1); SDIRK4's Newton iteration then failed on 6,040 of 11,515 steps).
     #[test]
     fn graph_solve_matches_dense_solve_with_locks() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-        let text = std::fs::read_to_string(dir.join("zfold-tape-latch.toml")).unwrap();
-        let text: String = text
-            .lines()
-            .map(|l| match l.split('=').next().unwrap_or("").trim() {
-                k @ ("x" | "y" | "z" | "rx" | "ry") => format!("{k} = \"locked\""),
-                _ => l.to_string(),
-            })
-            .collect::<Vec<_>>()
-            .join("\n");
-        let s = Scenario::from_toml_in(&text, "locked z-fold", &dir).unwrap();
+        let s = crate::scenario::example_with("zfold-tape-latch.toml", &["x", "y", "z", "rx", "ry"], "\"locked\"");
         graph_matches_dense(&s);
     }
 }

@@ -313,39 +313,27 @@ impl Workspace {
             self.touched = self.structure.iter().flat_map(|s| [s.2, s.3]).collect();
             self.touched.sort_unstable();
             self.touched.dedup();
+            // The envelope: each hinge's rows start at the first row of the earliest hinge
+            // sharing a body with it (hinges are met in order, so the first one met at a body
+            // is its earliest).
             if self.by_body.len() < bodies.len() {
                 self.by_body.resize(bodies.len(), Vec::new());
-            }
-            self.pairs.clear();
-            for (gi, g) in self.groups.iter().enumerate() {
-                let (p, c) = (rows[g.0].parent, rows[g.0].child);
-                let mut partners: Vec<usize> = self.by_body[p].iter().chain(&self.by_body[c]).copied().collect();
-                partners.push(gi);
-                partners.sort_unstable();
-                partners.dedup();
-                self.pairs.extend(partners.into_iter().map(|hi| (gi, hi)));
-                self.by_body[p].push(gi);
-                self.by_body[c].push(gi);
-            }
-            for g in &self.groups {
-                self.by_body[rows[g.0].parent].clear();
-                self.by_body[rows[g.0].child].clear();
             }
             self.first.clear();
             self.offset.clear();
             let mut size = 0;
-            let mut pair = 0;
             for (gi, g) in self.groups.iter().enumerate() {
-                // The pairs are sorted: this hinge's earliest partner comes first.
-                let first = self.groups[self.pairs[pair].1].0;
-                while pair < self.pairs.len() && self.pairs[pair].0 == gi {
-                    pair += 1;
-                }
+                let (p, c) = (rows[g.0].parent, rows[g.0].child);
+                let earliest =
+                    [&self.by_body[p], &self.by_body[c]].iter().filter_map(|v| v.first()).fold(gi, |a, &b| a.min(b));
+                let first = self.groups[earliest].0;
                 for i in g.0..g.1 {
                     self.first.push(first);
                     self.offset.push(size);
                     size += i - first + 1;
                 }
+                self.by_body[p].push(gi);
+                self.by_body[c].push(gi);
             }
             // Eliminate along the forest only where it is cheaper: its 6×6 body blocks cost
             // more than a narrow envelope (a chain with one or two locks per hinge), far less
@@ -368,6 +356,34 @@ impl Workspace {
                     self.forest = None;
                 }
             }
+            for g in &self.groups {
+                self.by_body[rows[g.0].parent].clear();
+                self.by_body[rows[g.0].child].clear();
+            }
+            self.pairs.clear();
+            if self.forest.is_none() {
+                self.envelope_pairs(rows);
+            }
+        }
+    }
+
+    /// The hinge pairs that share a body: the envelope's nonzero blocks (for a hub holding n
+    /// locked hinges there are n²/2, so they are listed only when the envelope is used).
+    fn envelope_pairs(&mut self, rows: &[Row]) {
+        self.pairs.clear();
+        for (gi, g) in self.groups.iter().enumerate() {
+            let (p, c) = (rows[g.0].parent, rows[g.0].child);
+            let mut partners: Vec<usize> = self.by_body[p].iter().chain(&self.by_body[c]).copied().collect();
+            partners.push(gi);
+            partners.sort_unstable();
+            partners.dedup();
+            self.pairs.extend(partners.into_iter().map(|hi| (gi, hi)));
+            self.by_body[p].push(gi);
+            self.by_body[c].push(gi);
+        }
+        for g in &self.groups {
+            self.by_body[rows[g.0].parent].clear();
+            self.by_body[rows[g.0].child].clear();
         }
     }
 
@@ -814,6 +830,7 @@ mod tests {
             assert!(work.correct(&s.model, &rows, &residual));
             let by_forest = work.delta.clone();
             work.forest = None;
+            work.envelope_pairs(&rows);
             assert!(work.correct(&s.model, &rows, &residual));
             let scale = work.delta.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
             let diff = by_forest

@@ -82,6 +82,34 @@ pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler
     out
 }
 
+/// One constraint row on the twists of its hinge's parent and child, in each body's own
+/// twist components (linear: N, angular: body), as the implicit path's Newton matrix takes
+/// them: `[J on parent, J on child, M⁻¹ Jᵀ on parent, M⁻¹ Jᵀ on child]`.
+pub type TwistRow = [[f64; 6]; 4];
+
+/// The rows of every lock at `motions` in twist components (see [`TwistRow`]), with each
+/// row's hinge index; `locks` grouped by hinge.
+pub fn twist_rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler321]) -> Vec<(usize, TwistRow)> {
+    let rows = rows(model, locks, motions, refs);
+    locks
+        .iter()
+        .zip(&rows)
+        .map(|(lock, r)| {
+            let mut out = [[0.0; 6]; 4];
+            for (side, (body, lin, ang)) in
+                [(r.parent, r.lin_p, r.ang_p), (r.child, r.lin_c, r.ang_c)].into_iter().enumerate()
+            {
+                let b = &model.bodies[body];
+                let ang_b = motions[body].dcm_n_b.tr_mul(&ang);
+                let m_ang = b.inertia_inv_in_body * ang_b;
+                out[side] = [lin.x, lin.y, lin.z, ang_b.x, ang_b.y, ang_b.z];
+                out[2 + side] = [lin.x / b.mass, lin.y / b.mass, lin.z / b.mass, m_ang.x, m_ang.y, m_ang.z];
+            }
+            (lock.hinge, out)
+        })
+        .collect()
+}
+
 /// Appends to `out` the rows of `locks`, all of hinge `h`, from the hinge's kinematics `k`
 /// and its parent's and child's motions `p`, `c`.
 #[inline]

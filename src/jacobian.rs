@@ -11,8 +11,10 @@
 //!
 //! Laws differentiate through [`crate::law::HingeLaw::wrench_dual`] with their memory
 //! (hysteresis branch, stop contact) held, as the piecewise-smooth response is between
-//! events. Locked directions make the accelerations depend on the constraint solve; with
-//! locks, or a law without a dual form, the caller falls back to finite differences.
+//! events. With locked directions this is the Jacobian of the accelerations before the
+//! constraint forces; the Newton matrix adds the constraints themselves as rows
+//! ([`ExactJacobian::constraint_rows`], see [`crate::sparse`]). A law without a dual form
+//! makes the caller fall back to finite differences.
 
 use crate::dynamics::{Dynamics, hinge_kinematics};
 use crate::law::JacobianDual as D;
@@ -33,8 +35,21 @@ pub type BlockSink<'s> = dyn FnMut(usize, usize, &PoseBlock, &TwistBlock) + 's;
 /// A system that can give the exact Jacobian of its accelerations in body blocks.
 pub trait ExactJacobian {
     /// Sends every block of `∂(R̈, ω̇)/∂(x, v)` at state `y` to `add`. Returns false (having
-    /// sent nothing) when it cannot; the caller then differences.
+    /// sent nothing) when it cannot; the caller then differences. With locked directions
+    /// these are the accelerations before the constraint forces (see
+    /// [`Self::constraint_rows`]).
     fn acceleration_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool;
+
+    /// The hinges with locked directions, as (parent body, child body, number of locked
+    /// directions), in hinge order. Empty when nothing is locked.
+    fn locked_hinges(&self) -> Vec<(usize, usize, usize)> {
+        Vec::new()
+    }
+
+    /// The locks' constraint rows at `y`, grouped as [`Self::locked_hinges`] lists them.
+    fn constraint_rows(&self, _y: &[f64]) -> Vec<crate::constraints::TwistRow> {
+        Vec::new()
+    }
 }
 
 /// The 26 derivatives of a dual number.
@@ -68,9 +83,6 @@ fn split(rows: &[D; 6]) -> [(PoseBlock, TwistBlock); 2] {
 impl ExactJacobian for Dynamics<'_> {
     fn acceleration_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool {
         let model = self.model();
-        if self.has_locks() {
-            return false;
-        }
         let refs = self.theta_refs();
         let memories = self.memories();
         let nb = model.bodies.len();
@@ -118,5 +130,22 @@ impl ExactJacobian for Dynamics<'_> {
             add(i, i, &dx, &dv);
         }
         true
+    }
+
+    fn locked_hinges(&self) -> Vec<(usize, usize, usize)> {
+        let model = self.model();
+        self.locks()
+            .chunk_by(|a, b| a.hinge == b.hinge)
+            .map(|g| (model.hinges[g[0].hinge].parent, model.hinges[g[0].hinge].child, g.len()))
+            .collect()
+    }
+
+    fn constraint_rows(&self, y: &[f64]) -> Vec<crate::constraints::TwistRow> {
+        let model = self.model();
+        let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
+        crate::constraints::twist_rows(model, &self.locks(), &motions, &self.theta_refs())
+            .into_iter()
+            .map(|(_, r)| r)
+            .collect()
     }
 }

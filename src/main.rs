@@ -220,7 +220,7 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     println!("  rhs evaluations  {}", r.rhs_evaluations);
     if r.jacobians > 0 {
         let how = if r.differenced_jacobians > 0 {
-            "by finite differences: locked directions are outside the exact Jacobian"
+            "by finite differences: a hinge law without a dual form"
         } else {
             "exact, by dual numbers"
         };

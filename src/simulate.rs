@@ -133,7 +133,7 @@ pub struct RunReport {
     /// Jacobians formed (implicit path).
     pub jacobians: usize,
     /// Of those, formed by finite differences because the exact (dual-number) Jacobian does
-    /// not cover the model (locked directions).
+    /// not cover the model (a hinge law without a dual form; none of the shipped laws).
     pub differenced_jacobians: usize,
     /// Number of other located law events (hysteresis branch changes, table data points
     /// crossed): counted, not kept, so memory stays flat in run length.

@@ -82,6 +82,15 @@ pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler
     out
 }
 
+/// A row's part on one body in that body's twist components: its angular coefficients in
+/// body components, and `M⁻¹ Jᵀ` (linear: N components, angular: body components), from
+/// the linear and angular coefficients `lin`, `ang` (N components).
+fn on_body(model: &Model, motions: &[BodyMotion], body: usize, lin: &Vec3, ang: &Vec3) -> [Vec3; 3] {
+    let b = &model.bodies[body];
+    let ang_b = motions[body].dcm_n_b.tr_mul(ang);
+    [ang_b, lin / b.mass, b.inertia_inv_in_body * ang_b]
+}
+
 /// One constraint row on the twists of its hinge's parent and child, in each body's own
 /// twist components (linear: N, angular: body), as the implicit path's Newton matrix takes
 /// them: `[J on parent, J on child, M⁻¹ Jᵀ on parent, M⁻¹ Jᵀ on child]`.
@@ -99,11 +108,9 @@ pub fn twist_rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &
             for (side, (body, lin, ang)) in
                 [(r.parent, r.lin_p, r.ang_p), (r.child, r.lin_c, r.ang_c)].into_iter().enumerate()
             {
-                let b = &model.bodies[body];
-                let ang_b = motions[body].dcm_n_b.tr_mul(&ang);
-                let m_ang = b.inertia_inv_in_body * ang_b;
+                let [ang_b, m_lin, m_ang] = on_body(model, motions, body, &lin, &ang);
                 out[side] = [lin.x, lin.y, lin.z, ang_b.x, ang_b.y, ang_b.z];
-                out[2 + side] = [lin.x / b.mass, lin.y / b.mass, lin.z / b.mass, m_ang.x, m_ang.y, m_ang.z];
+                out[2 + side] = [m_lin.x, m_lin.y, m_lin.z, m_ang.x, m_ang.y, m_ang.z];
             }
             (lock.hinge, out)
         })
@@ -314,17 +321,9 @@ impl Workspace {
         self.body.clear();
         self.groups.clear();
         for (i, r) in rows.iter().enumerate() {
-            let ang_p = motions[r.parent].dcm_n_b.tr_mul(&r.ang_p);
-            let ang_c = motions[r.child].dcm_n_b.tr_mul(&r.ang_c);
-            let (bp, bc) = (&bodies[r.parent], &bodies[r.child]);
-            self.body.push([
-                ang_p,
-                r.lin_p / bp.mass,
-                bp.inertia_inv_in_body * ang_p,
-                ang_c,
-                r.lin_c / bc.mass,
-                bc.inertia_inv_in_body * ang_c,
-            ]);
+            let [a, b, c] = on_body(model, motions, r.parent, &r.lin_p, &r.ang_p);
+            let [d, e, f] = on_body(model, motions, r.child, &r.lin_c, &r.ang_c);
+            self.body.push([a, b, c, d, e, f]);
             match self.groups.last_mut() {
                 Some((start, end)) if rows[*start].parent == r.parent && rows[*start].child == r.child => *end = i + 1,
                 _ => self.groups.push((i, i + 1)),

@@ -582,41 +582,42 @@ impl Workspace {
                 if !cholesky_small(&mut self.art[far], 6) {
                     return false;
                 }
-                let l_far = self.art[far];
-                forward_small(&l_far, 6, &mut self.z[far]);
-                backward_small(&l_far, 6, &mut self.z[far]);
+                let (l_far, z_far) = (&self.art[far], &mut self.z[far]);
+                forward_small(l_far, 6, z_far);
+                backward_small(l_far, 6, z_far);
             }
-            let y_far = self.z[far];
+            let (y_far, l_far) = (&self.z[far], &self.art[far]);
+            let mut j_far = [[0.0; 6]; 6];
+            let mut j_near = [[0.0; 6]; 6];
+            for r in start..end {
+                j_far[r - start] = row_on(r, far_side);
+                j_near[r - start] = row_on(r, 1 - far_side);
+            }
             let mut kk = [[0.0; 6]; 6];
             for r in start..end {
-                let j = row_on(r, far_side);
+                let j = &j_far[r - start];
                 let w = if leaf {
                     let b = &self.body[r];
                     let (lin, ang) = if far_side == 0 { (b[1], b[2]) } else { (b[4], b[5]) };
                     [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
                 } else {
-                    let l_far = self.art[far];
-                    let mut w = j;
-                    forward_small(&l_far, 6, &mut w);
-                    backward_small(&l_far, 6, &mut w);
+                    let mut w = *j;
+                    forward_small(l_far, 6, &mut w);
+                    backward_small(l_far, 6, &mut w);
                     w
                 };
                 self.w[r] = w;
                 for s in start..=r {
-                    kk[r - start][s - start] = dot6(&row_on(s, far_side), &w);
+                    kk[r - start][s - start] = dot6(&j_far[s - start], &w);
                 }
-                self.beta[r] = -residual[r] - dot6(&j, &y_far);
+                self.beta[r] = -residual[r] - dot6(j, y_far);
             }
             if !cholesky_small(&mut kk, k) {
                 return false;
             }
             // P = L_K⁻¹ J_near, β = L_K⁻¹ b, column by column of the near side.
-            let mut cols = [[0.0; 6]; 6];
-            for r in start..end {
-                cols[r - start] = row_on(r, 1 - far_side);
-            }
             for c in 0..6 {
-                let mut x: [f64; 6] = std::array::from_fn(|i| if i < k { cols[i][c] } else { 0.0 });
+                let mut x: [f64; 6] = std::array::from_fn(|i| if i < k { j_near[i][c] } else { 0.0 });
                 forward_small(&kk, k, &mut x);
                 for i in 0..k {
                     self.p[start + i][c] = x[i];
@@ -624,6 +625,7 @@ impl Workspace {
             }
             forward_small(&kk, k, &mut self.beta[start..end]);
             self.k_factor[g] = kk;
+            // Lower triangles only: the factorization reads no more.
             let (art, z) = (&mut self.art[near], &mut self.z[near]);
             for r in start..end {
                 let (p, beta) = (&self.p[r], self.beta[r]);
@@ -634,20 +636,15 @@ impl Workspace {
                     }
                 }
             }
-            for i in 0..6 {
-                for j in 0..i {
-                    art[j][i] = art[i][j];
-                }
-            }
         }
         for &root in &forest.roots {
             if !cholesky_small(&mut self.art[root], 6) {
                 return false;
             }
-            let l = self.art[root];
+            let l = &self.art[root];
             let mut d = self.z[root];
-            forward_small(&l, 6, &mut d);
-            backward_small(&l, 6, &mut d);
+            forward_small(l, 6, &mut d);
+            backward_small(l, 6, &mut d);
             self.delta[root] = d;
         }
         // From the roots: each hinge's multipliers, then its far body.

@@ -551,19 +551,24 @@ mod tests {
         }
     }
 
-    /// `GraphNewton`'s solve against `DenseNewton`'s on scenario `s`: both use forward-
-    /// difference Jacobians (steps differ), so agreement to 1e-5 relative is what the
-    /// differencing allows; a wrong block, colour or elimination step would be off by O(1).
-    fn graph_matches_dense(s: &Scenario) {
+    /// `GraphNewton`'s solve (with the exact Jacobian if `exact`) and `DenseNewton`'s
+    /// (forward differences of the right-hand side) of the same right-hand side at
+    /// scenario `s`'s initial state and `h_gamma`: (right-hand side, graph solution, largest
+    /// difference in the body rows, largest dense solution entry there).
+    fn graph_and_dense(s: &Scenario, h_gamma: f64, exact: bool) -> (Vec<f64>, Vec<f64>, f64, f64) {
         let (y, refs) = initial_state(&s.model, &s.initial);
         let dynamics = Dynamics::new(&s.model, refs);
         dynamics.initialize_memory(&y);
+        assert!(dynamics.check_locks(&y).is_ok());
         let mut f = vec![0.0; y.len()];
         crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
-        let h_gamma = 0.05;
         let mut graph = GraphNewton::new(&dynamics, &s.model);
+        if exact {
+            graph = graph.with_exact(&dynamics);
+        }
         let mut dense = DenseNewton::new(&dynamics, y.len());
         assert!(graph.prepare(0.0, &y, &f, h_gamma));
+        assert_eq!(graph.jacobian_counts(), if exact { (1, 0) } else { (0, 1) });
         assert!(dense.prepare(0.0, &y, &f, h_gamma));
         let b: Vec<f64> = (0..y.len()).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
         let (mut xg, mut xd) = (b.clone(), b.clone());
@@ -572,6 +577,14 @@ mod tests {
         let nb = 13 * s.model.bodies.len();
         let scale = xd[..nb].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let diff = xg[..nb].iter().zip(&xd[..nb]).fold(0.0f64, |m, (a, c)| m.max((a - c).abs()));
+        (b, xg, diff, scale)
+    }
+
+    /// The differenced graph solve against the dense one: both use forward-difference
+    /// Jacobians (steps differ), so agreement to 1e-5 relative is what the differencing
+    /// allows; a wrong block, colour or elimination step would be off by O(1).
+    fn graph_matches_dense(s: &Scenario) {
+        let (_, _, diff, scale) = graph_and_dense(s, 0.05, false);
         assert!(diff <= 1e-5 * scale, "{:?}: graph vs dense: {diff:e} of {scale:e}", s.title);
     }
 
@@ -598,26 +611,13 @@ mod tests {
     #[test]
     fn constraint_rows_solve_matches_dense_solve() {
         let s = crate::scenario::example_with("zfold-tape-latch.toml", &["x", "y", "z", "rx", "ry"], "\"locked\"");
+        let h_gamma = 1e-4;
+        let (b, xg, diff, scale) = graph_and_dense(&s, h_gamma, true);
+        eprintln!("constraint rows vs dense: {diff:e} of {scale:e}");
+        assert!(diff <= 2.0 * h_gamma * scale, "graph vs dense: {diff:e} of {scale:e}");
         let (y, refs) = initial_state(&s.model, &s.initial);
         let dynamics = Dynamics::new(&s.model, refs);
         dynamics.initialize_memory(&y);
-        let mut f = vec![0.0; y.len()];
-        crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
-        let h_gamma = 1e-4;
-        let mut graph = GraphNewton::new(&dynamics, &s.model).with_exact(&dynamics);
-        let mut dense = DenseNewton::new(&dynamics, y.len());
-        assert!(graph.prepare(0.0, &y, &f, h_gamma));
-        assert_eq!(graph.jacobian_counts(), (1, 0), "exact Jacobian with locks");
-        assert!(dense.prepare(0.0, &y, &f, h_gamma));
-        let b: Vec<f64> = (0..y.len()).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-        let (mut xg, mut xd) = (b.clone(), b.clone());
-        graph.solve(&mut xg);
-        dense.solve(&mut xd);
-        let nb = 13 * s.model.bodies.len();
-        let scale = xd[..nb].iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = xg[..nb].iter().zip(&xd[..nb]).fold(0.0f64, |m, (a, c)| m.max((a - c).abs()));
-        eprintln!("constraint rows vs dense: {diff:e} of {scale:e}");
-        assert!(diff <= 2.0 * h_gamma * scale, "graph vs dense: {diff:e} of {scale:e}");
         let twist = |v: &[f64], body: usize| -> [f64; 6] { std::array::from_fn(|k| v[13 * body + 7 + k]) };
         let dot = |a: &[f64; 6], c: &[f64; 6]| a.iter().zip(c).map(|(x, z)| x * z).sum::<f64>();
         let rows = dynamics.constraint_rows(&y);
@@ -645,24 +645,8 @@ mod tests {
             .collect::<Vec<_>>()
             .join("\n");
         let s = Scenario::from_toml(&text, "locked grid").unwrap();
-        let (y, refs) = initial_state(&s.model, &s.initial);
-        let dynamics = Dynamics::new(&s.model, refs);
-        dynamics.initialize_memory(&y);
-        assert!(dynamics.check_locks(&y).is_ok());
-        let mut f = vec![0.0; y.len()];
-        crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
         let h_gamma = 1e-4;
-        let mut graph = GraphNewton::new(&dynamics, &s.model).with_exact(&dynamics);
-        let mut dense = DenseNewton::new(&dynamics, y.len());
-        assert!(graph.prepare(0.0, &y, &f, h_gamma));
-        assert!(dense.prepare(0.0, &y, &f, h_gamma));
-        let b: Vec<f64> = (0..y.len()).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-        let (mut xg, mut xd) = (b.clone(), b.clone());
-        graph.solve(&mut xg);
-        dense.solve(&mut xd);
-        let nb = 13 * s.model.bodies.len();
-        let scale = xd[..nb].iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = xg[..nb].iter().zip(&xd[..nb]).fold(0.0f64, |m, (a, c)| m.max((a - c).abs()));
+        let (_, _, diff, scale) = graph_and_dense(&s, h_gamma, true);
         eprintln!("locked grid, constraint rows vs dense: {diff:e} of {scale:e}");
         assert!(diff <= 2.0 * h_gamma * scale, "graph vs dense: {diff:e} of {scale:e}");
     }

@@ -117,6 +117,20 @@ fn one_dof_hinged_panels_match_linear_theory() {
 /// 160 locks whose multiplier system couples neighbours): it unfolds with the locked
 /// directions held below 1e-9, and energy and momentum conserved (C = 0) to 1e-9 relative
 /// (bounds as for the two-panel case, relaxed ten times for the longer, faster motion).
+/// The largest departure over the output rows of any hinge's δ x, y, z, pitch or roll from
+/// its first row (m or rad): the five directions these tests lock.
+fn locked_motion(table: &Table, s: &foldsim::scenario::Scenario) -> f64 {
+    let mut locked = 0.0f64;
+    for h in &s.model.hinges {
+        for c in ["delta_x", "delta_y", "delta_z", "pitch", "roll"] {
+            let i = table.col(&format!("{}_{c}", h.name));
+            let first = table.rows[0][i];
+            locked = locked.max(table.rows.iter().map(|r| (r[i] - first).abs()).fold(0.0, f64::max));
+        }
+    }
+    locked
+}
+
 #[test]
 fn long_locked_chain_holds_its_locks() {
     use foldsim::generate::{Params, zfold};
@@ -129,14 +143,7 @@ fn long_locked_chain_holds_its_locks() {
         .join("\n");
     let s = foldsim::scenario::Scenario::from_toml(&text, "locked chain").unwrap();
     let (table, obs, report) = run(&s);
-    let mut locked = 0.0f64;
-    for h in &s.model.hinges {
-        for c in ["delta_x", "delta_y", "delta_z", "pitch", "roll"] {
-            let i = table.col(&format!("{}_{c}", h.name));
-            let first = table.rows[0][i];
-            locked = locked.max(table.rows.iter().map(|r| (r[i] - first).abs()).fold(0.0, f64::max));
-        }
-    }
+    let locked = locked_motion(&table, &s);
     let fold = table.col("h32_yaw");
     let moved = table.rows.iter().map(|r| (r[fold] - table.rows[0][fold]).abs()).fold(0.0, f64::max);
     let d = &report.drift;
@@ -182,14 +189,7 @@ fn locks_hold_at_loose_tolerance() {
         .join("\n");
     let s = foldsim::scenario::Scenario::from_toml_in(&text, "locked z-fold", &dir).unwrap();
     let (table, _, report) = run(&s);
-    let mut locked = 0.0f64;
-    for h in &s.model.hinges {
-        for c in ["delta_x", "delta_y", "delta_z", "pitch", "roll"] {
-            let i = table.col(&format!("{}_{c}", h.name));
-            let first = table.rows[0][i];
-            locked = locked.max(table.rows.iter().map(|r| (r[i] - first).abs()).fold(0.0, f64::max));
-        }
-    }
+    let locked = locked_motion(&table, &s);
     let d = &report.drift;
     let (p, h) = (d.momentum / d.momentum_scale, d.angular_momentum / d.angular_momentum_scale);
     eprintln!(

@@ -15,9 +15,10 @@
 //! locked hinges is linear in their number.
 
 use crate::dynamics::{HingeKinematics, hinge_kinematics};
-use crate::math::{Euler321, EulerTrig, Mat3, Vec3};
+use crate::math::{Euler321, EulerTrig, Real, Vec3, real};
 use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
+use nalgebra::{Matrix3, Vector3};
 
 /// One locked direction of one hinge.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,22 +31,22 @@ pub struct Lock {
     pub target: f64,
 }
 
-/// A constraint row at one state.
+/// A constraint row at one state (in f64, or in dual numbers for the Jacobian).
 #[derive(Clone, Copy, Debug)]
-pub struct Row {
-    parent: usize,
-    child: usize,
+pub struct Row<T: nalgebra::Scalar = f64> {
+    pub(crate) parent: usize,
+    pub(crate) child: usize,
     /// Coefficients of the parent's (v, ω) and the child's (v, ω), N components.
-    lin_p: Vec3,
-    ang_p: Vec3,
-    lin_c: Vec3,
-    ang_c: Vec3,
+    pub(crate) lin_p: Vector3<T>,
+    pub(crate) ang_p: Vector3<T>,
+    pub(crate) lin_c: Vector3<T>,
+    pub(crate) ang_c: Vector3<T>,
     /// Velocity-product term γ (the coordinate's acceleration at zero body accelerations).
-    gamma: f64,
+    pub(crate) gamma: T,
     /// Coordinate minus target.
-    error: f64,
+    error: T,
     /// Coordinate rate `J V`.
-    rate: f64,
+    rate: T,
 }
 
 /// Euler-angle index (in (yaw, pitch, roll)) of rotational direction 3, 4, 5.
@@ -58,12 +59,17 @@ pub(crate) fn euler_index(direction: usize) -> usize {
 }
 
 /// Rows of `B(θ)⁻¹` (so `θ̇ = B⁻¹ ω`) and `Ḃ θ̇` for the rates `theta_rate`.
-fn euler_rows(trig: &EulerTrig, theta_rate: &Vec3) -> ([Vec3; 3], Vec3) {
+fn euler_rows<T: Real>(trig: &EulerTrig<T>, theta_rate: &Vector3<T>) -> ([Vector3<T>; 3], Vector3<T>) {
     let EulerTrig { s2, c2, s3, c3 } = *trig;
-    let b_inv = [Vec3::new(0.0, s3 / c2, c3 / c2), Vec3::new(0.0, c3, -s3), Vec3::new(1.0, s2 * s3 / c2, s2 * c3 / c2)];
+    let (zero, one) = (real::<T>(0.0), real::<T>(1.0));
+    let b_inv = [
+        Vector3::new(zero, s3 / c2, c3 / c2),
+        Vector3::new(zero, c3, -s3),
+        Vector3::new(one, s2 * s3 / c2, s2 * c3 / c2),
+    ];
     // B = [[−s2, 0, 1], [s3 c2, c3, 0], [c3 c2, −s3, 0]]
-    let db_d2 = Mat3::new(-c2, 0.0, 0.0, -s3 * s2, 0.0, 0.0, -c3 * s2, 0.0, 0.0);
-    let db_d3 = Mat3::new(0.0, 0.0, 0.0, c3 * c2, -s3, 0.0, -s3 * c2, -c3, 0.0);
+    let db_d2 = Matrix3::new(-c2, zero, zero, -s3 * s2, zero, zero, -c3 * s2, zero, zero);
+    let db_d3 = Matrix3::new(zero, zero, zero, c3 * c2, -s3, zero, -s3 * c2, -c3, zero);
     let b_dot = db_d2 * theta_rate.y + db_d3 * theta_rate.z;
     (b_inv, b_dot * theta_rate)
 }
@@ -91,54 +97,38 @@ fn on_body(model: &Model, motions: &[BodyMotion], body: usize, lin: &Vec3, ang: 
     [ang_b, lin / b.mass, b.inertia_inv_in_body * ang_b]
 }
 
-/// One constraint row on the twists of its hinge's parent and child, in each body's own
-/// twist components (linear: N, angular: body), as the implicit path's Newton matrix takes
-/// them: `[J on parent, J on child, M⁻¹ Jᵀ on parent, M⁻¹ Jᵀ on child]`.
-pub type TwistRow = [[f64; 6]; 4];
-
-/// The rows of every lock at `motions` in twist components (see [`TwistRow`]), with each
-/// row's hinge index; `locks` grouped by hinge.
-pub fn twist_rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler321]) -> Vec<(usize, TwistRow)> {
-    let rows = rows(model, locks, motions, refs);
-    locks
-        .iter()
-        .zip(&rows)
-        .map(|(lock, r)| {
-            let mut out = [[0.0; 6]; 4];
-            for (side, (body, lin, ang)) in
-                [(r.parent, r.lin_p, r.ang_p), (r.child, r.lin_c, r.ang_c)].into_iter().enumerate()
-            {
-                let [ang_b, m_lin, m_ang] = on_body(model, motions, body, &lin, &ang);
-                out[side] = [lin.x, lin.y, lin.z, ang_b.x, ang_b.y, ang_b.z];
-                out[2 + side] = [m_lin.x, m_lin.y, m_lin.z, m_ang.x, m_ang.y, m_ang.z];
-            }
-            (lock.hinge, out)
-        })
-        .collect()
-}
-
 /// Appends to `out` the rows of `locks`, all of hinge `h`, from the hinge's kinematics `k`
 /// and its parent's and child's motions `p`, `c`.
 #[inline]
-pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: &HingeKinematics, out: &mut Vec<Row>) {
+pub fn hinge_rows<T: Real>(
+    h: &Hinge,
+    locks: &[Lock],
+    p: &BodyMotion<T>,
+    c: &BodyMotion<T>,
+    k: &HingeKinematics<T>,
+    out: &mut Vec<Row<T>>,
+) {
     let (a_p, a_c) = (k.arm_parent_in_n, k.arm_child_in_n);
     let (w_p, w_c) = (p.omega_in_n, c.omega_in_n);
     // The Euler-rate data shared by the hinge's rotational locks, and the velocity-product
     // acceleration of A relative to the parent shared by its translational ones (γ = u · g),
     // each computed once.
-    let mut euler: Option<([Vec3; 3], Vec3, Vec3)> = None;
-    let mut relative: Option<Vec3> = None;
+    // (rows of B⁻¹, Ḃ θ̇, θ̇)
+    type EulerRates<T> = ([Vector3<T>; 3], Vector3<T>, Vector3<T>);
+    let mut euler: Option<EulerRates<T>> = None;
+    let mut relative: Option<Vector3<T>> = None;
     for lock in locks {
+        let zero = real::<T>(0.0);
         let mut row = Row {
             parent: h.parent,
             child: h.child,
-            lin_p: Vec3::zeros(),
-            ang_p: Vec3::zeros(),
-            lin_c: Vec3::zeros(),
-            ang_c: Vec3::zeros(),
-            gamma: 0.0,
-            error: 0.0,
-            rate: 0.0,
+            lin_p: Vector3::zeros(),
+            ang_p: Vector3::zeros(),
+            lin_c: Vector3::zeros(),
+            ang_c: Vector3::zeros(),
+            gamma: zero,
+            error: zero,
+            rate: zero,
         };
         if lock.direction < 3 {
             // δ̇ = [A0 N] w, w = v_A − v_p − ω_p × a_p, v_A = v_c + ω_c × a_c.
@@ -153,7 +143,7 @@ pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: 
                 w_c.cross(&w_c.cross(&a_c)) - w_p.cross(&(v_a - p.v_in_n)) - w_p.cross(&w)
             });
             row.gamma = u.dot(&g);
-            row.error = k.state.delta_in_a0[lock.direction] - lock.target;
+            row.error = k.state.delta_in_a0[lock.direction] - real::<T>(lock.target);
             row.rate = k.state.delta_rate_in_a0[lock.direction];
         } else {
             // θ̇_j = b_j · ω_rel, ω_rel = [A N](ω_c − ω_p);
@@ -171,7 +161,7 @@ pub fn hinge_rows(h: &Hinge, locks: &[Lock], p: &BodyMotion, c: &BodyMotion, k: 
             row.ang_p = -n;
             let w_c_in_a = k.dcm_n_a.transpose() * w_c;
             row.gamma = b_inv[j].dot(&(-w_c_in_a.cross(&w_rel) - b_dot_rate));
-            row.error = theta.as_vector()[j] - lock.target;
+            row.error = theta.as_vector()[j] - real::<T>(lock.target);
             row.rate = theta_rate[j];
         }
         out.push(row);
@@ -306,6 +296,11 @@ fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
 }
 
 impl Workspace {
+    /// The multipliers λ of the last solve, one per row (`Δ = M⁻¹ Jᵀ λ`).
+    pub fn multipliers(&self) -> &[f64] {
+        &self.lambda
+    }
+
     /// Entry (i, j), j in `first[i]..=i`, of the envelope storage.
     #[inline]
     fn at(&self, i: usize, j: usize) -> usize {
@@ -553,6 +548,8 @@ impl Workspace {
         self.p.resize(n, [0.0; 6]);
         self.beta.resize(n, 0.0);
         self.k_factor.resize(self.groups.len(), [[0.0; 6]; 6]);
+        self.lambda.clear();
+        self.lambda.resize(n, 0.0);
         // The row's coefficients on one side, body components (linear: N, angular: body).
         let row_on = |r: usize, side: usize| -> [f64; 6] {
             let (lin, ang) =
@@ -657,6 +654,7 @@ impl Workspace {
                 lambda[r - start] = self.beta[r] - dot6(&self.p[r], &d_near);
             }
             backward_small(&self.k_factor[g], k, &mut lambda[..k]);
+            self.lambda[start..end].copy_from_slice(&lambda[..k]);
             let mut d = self.z[far];
             for r in start..end {
                 for i in 0..6 {

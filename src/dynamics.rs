@@ -452,6 +452,17 @@ impl<'m> Dynamics<'m> {
     }
 }
 
+impl Dynamics<'_> {
+    /// The state derivative at `y` and the locks' multipliers there (one per lock, in the
+    /// order of [`Self::locks`]; the constraint wrench is `Jᵀ λ`).
+    pub fn rhs_and_multipliers(&self, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let mut dydt = vec![0.0; y.len()];
+        self.rhs(y, &mut dydt);
+        let lambda = if self.has_locks() { self.scratch.borrow().work.multipliers().to_vec() } else { Vec::new() };
+        (dydt, lambda)
+    }
+}
+
 impl crate::ode::OdeSystem for Dynamics<'_> {
     fn rhs(&self, _t: f64, y: &[f64], dydt: &mut [f64]) {
         Dynamics::rhs(self, y, dydt);

@@ -16,10 +16,11 @@
 //! ([`ExactJacobian::constraint_rows`], see [`crate::sparse`]). A law without a dual form
 //! makes the caller fall back to finite differences.
 
+use crate::constraints::hinge_rows;
 use crate::dynamics::{Dynamics, hinge_kinematics};
 use crate::law::JacobianDual as D;
 use crate::math::{lift, re, real};
-use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA};
+use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, VEL};
 use nalgebra::{Const, SMatrix, U1, Vector3};
 
 /// Derivatives of a body's 6 accelerations (R̈ in N components, ω̇ in body components) with
@@ -46,10 +47,28 @@ pub trait ExactJacobian {
         Vec::new()
     }
 
-    /// The locks' constraint rows at `y`, grouped as [`Self::locked_hinges`] lists them.
-    fn constraint_rows(&self, _y: &[f64]) -> Vec<crate::constraints::TwistRow> {
+    /// The locks at `y`, for a Newton matrix that carries them as rows: sends to `add` the
+    /// blocks of the constraint wrenches' derivatives with the multipliers held
+    /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the rows, grouped as [`Self::locked_hinges`]
+    /// lists them.
+    fn constraint_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
         Vec::new()
     }
+}
+
+/// One lock's row for the Newton matrix, per side (0: the hinge's parent, 1: its child), in
+/// the body's twist components (linear: N, angular: body).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ConstraintRow {
+    /// `J`: the locked coordinate's acceleration is `J a + γ`.
+    pub j: [[f64; 6]; 2],
+    /// `M⁻¹ Jᵀ`.
+    pub m_inv_j: [[f64; 6]; 2],
+    /// `∂(J a + γ)/∂x` (pose: R, q) with the accelerations a held at their constrained
+    /// values.
+    pub d_pose: [[f64; 7]; 2],
+    /// `∂(J a + γ)/∂v` (twist), likewise.
+    pub d_twist: [[f64; 6]; 2],
 }
 
 /// The 26 derivatives of a dual number.
@@ -140,12 +159,81 @@ impl ExactJacobian for Dynamics<'_> {
             .collect()
     }
 
-    fn constraint_rows(&self, y: &[f64]) -> Vec<crate::constraints::TwistRow> {
+    fn constraint_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
         let model = self.model();
-        let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
-        crate::constraints::twist_rows(model, &self.locks(), &motions, &self.theta_refs())
-            .into_iter()
-            .map(|(_, r)| r)
-            .collect()
+        let (dydt, lambda) = self.rhs_and_multipliers(y);
+        let refs = self.theta_refs();
+        let locks = self.locks();
+        let body = |i: usize| &y[B * i..B * (i + 1)];
+        let accel = |i: usize| -> [f64; 6] {
+            let o = B * i;
+            [
+                dydt[o + VEL],
+                dydt[o + VEL + 1],
+                dydt[o + VEL + 2],
+                dydt[o + OMEGA],
+                dydt[o + OMEGA + 1],
+                dydt[o + OMEGA + 2],
+            ]
+        };
+        let mut out = Vec::with_capacity(locks.len());
+        for group in locks.chunk_by(|a, b| a.hinge == b.hinge) {
+            let hinge = group[0].hinge;
+            let h = &model.hinges[hinge];
+            let p = BodyMotion::<D>::from_body_state(&seeded(body(h.parent), 0));
+            let c = BodyMotion::<D>::from_body_state(&seeded(body(h.child), B));
+            let k = hinge_kinematics(h, &p, &c, &refs[hinge]);
+            let mut rows = Vec::with_capacity(group.len());
+            hinge_rows(h, group, &p, &c, &k, &mut rows);
+            let lam = &lambda[out.len()..out.len() + group.len()];
+            // The constraint wrench Jᵀλ with λ held, as accelerations (ω̇ in the body's own,
+            // seeded, attitude).
+            let mut wrench = [(Vector3::<D>::zeros(), Vector3::<D>::zeros()); 2];
+            for (r, &l) in rows.iter().zip(lam) {
+                let l = D::from_re(l);
+                wrench[0].0 += r.lin_p * l;
+                wrench[0].1 += r.ang_p * l;
+                wrench[1].0 += r.lin_c * l;
+                wrench[1].1 += r.ang_c * l;
+            }
+            for (b, m, (force, torque)) in [(h.parent, &p, wrench[0]), (h.child, &c, wrench[1])] {
+                let bd = &model.bodies[b];
+                let acc = force / real::<D>(bd.mass);
+                let alpha = lift::<D>(&bd.inertia_inv_in_body) * (m.dcm_n_b.transpose() * torque);
+                let [(px, pv), (cx, cv)] = split(&[acc.x, acc.y, acc.z, alpha.x, alpha.y, alpha.z]);
+                add(b, h.parent, &px, &pv);
+                add(b, h.child, &cx, &cv);
+            }
+            // Each row, and the derivatives of J a + γ with a held.
+            for r in &rows {
+                let mut row = ConstraintRow::default();
+                let mut value = r.gamma;
+                for (side, (b, m, lin, ang)) in
+                    [(h.parent, &p, r.lin_p, r.ang_p), (h.child, &c, r.lin_c, r.ang_c)].into_iter().enumerate()
+                {
+                    let bd = &model.bodies[b];
+                    let ang_b = m.dcm_n_b.transpose() * ang;
+                    let coeffs = [lin.x, lin.y, lin.z, ang_b.x, ang_b.y, ang_b.z];
+                    for (x, a) in coeffs.iter().zip(accel(b)) {
+                        value += *x * D::from_re(a);
+                    }
+                    row.j[side] = coeffs.map(|x| x.re);
+                    let m_ang = bd.inertia_inv_in_body * ang_b.map(re);
+                    let lin = lin.map(re) / bd.mass;
+                    row.m_inv_j[side] = [lin.x, lin.y, lin.z, m_ang.x, m_ang.y, m_ang.z];
+                }
+                let g = lanes(&value);
+                for side in 0..2 {
+                    for k in 0..7 {
+                        row.d_pose[side][k] = g[13 * side + k];
+                    }
+                    for k in 0..6 {
+                        row.d_twist[side][k] = g[13 * side + 7 + k];
+                    }
+                }
+                out.push(row);
+            }
+        }
+        out
     }
 }

@@ -1,7 +1,7 @@
 //! The exact Jacobian of the bodies' accelerations, by dual numbers, for the implicit path.
 //!
 //! A hinge's wrench depends on the 13 state numbers of its parent and the 13 of its child
-//! only. Seeding those 26 numbers as dual directions ([`JacobianDual`]) and evaluating the
+//! only. Seeding those 26 numbers as dual directions ([`crate::law::JacobianDual`]) and evaluating the
 //! same kinematics and law code the right-hand side runs (generic over [`crate::math::Real`])
 //! gives the hinge's contribution to the two bodies' accelerations and its exact derivatives
 //! in one pass. Per body, the rotation of the total torque into body components and the
@@ -13,7 +13,7 @@
 //! (hysteresis branch, stop contact) held, as the piecewise-smooth response is between
 //! events. With locked directions this is the Jacobian of the accelerations before the
 //! constraint forces; the Newton matrix adds the constraints themselves as rows
-//! ([`ExactJacobian::constraint_rows`], see [`crate::sparse`]). A law without a dual form
+//! ([`ExactJacobian::constraint_jacobian`], see [`crate::sparse`]). A law without a dual form
 //! makes the caller fall back to finite differences.
 
 use crate::constraints::hinge_rows;
@@ -38,7 +38,7 @@ pub trait ExactJacobian {
     /// Sends every block of `∂(R̈, ω̇)/∂(x, v)` at state `y` to `add`. Returns false (having
     /// sent nothing) when it cannot; the caller then differences. With locked directions
     /// these are the accelerations before the constraint forces (see
-    /// [`Self::constraint_rows`]).
+    /// [`Self::constraint_jacobian`]).
     fn acceleration_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool;
 
     /// The hinges with locked directions, as (parent body, child body, number of locked

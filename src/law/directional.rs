@@ -358,7 +358,7 @@ impl HingeLaw for DirectionalLaw {
     }
 
     /// Each direction's force as its value at the state's real part plus its exact slopes
-    /// ([`Direction::slopes`]) times the coordinates' dual parts: the chain rule, with the
+    /// (`Direction::slopes`) times the coordinates' dual parts: the chain rule, with the
     /// memory (branch, contact) held as the Jacobian requires.
     fn wrench_dual(&self, state: &HingeState<JacobianDual>, memory: &LawMemory) -> Option<HingeWrench<JacobianDual>> {
         let (q, qd, j_inv) = self.coordinates(state);

@@ -161,9 +161,12 @@ impl ExactJacobian for Dynamics<'_> {
 
     fn constraint_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
         let model = self.model();
-        let (dydt, lambda) = self.rhs_and_multipliers(y);
+        let (dydt, mut lambda) = self.rhs_and_multipliers(y);
         let refs = self.theta_refs();
         let locks = self.locks();
+        // A failed multiplier solve (locks momentarily redundant) leaves no multipliers: the
+        // wrench derivatives are then left out (Newton still converges, more slowly).
+        lambda.resize(locks.len(), 0.0);
         let body = |i: usize| &y[B * i..B * (i + 1)];
         let accel = |i: usize| -> [f64; 6] {
             let o = B * i;

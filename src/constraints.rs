@@ -211,18 +211,9 @@ pub struct Workspace {
     lambda: Vec<f64>,
     /// Residuals of the rows (kept for its allocation).
     residual: Vec<f64>,
-    /// The elimination order when the locked hinges form a forest.
+    /// The elimination order and its scratch when the locked hinges form a forest and
+    /// eliminating along it is the cheaper solve.
     forest: Option<Forest>,
-    /// Per body: the articulated block A (then its Cholesky factor) and the right-hand side z
-    /// (then `A⁻¹ z`), components (linear: N, angular: body).
-    art: Vec<Mat6>,
-    z: Vec<[f64; 6]>,
-    /// Per row: `A_c⁻¹ J_cᵀ` on its hinge's far body, `L_K⁻¹ J_p` on its near body, and
-    /// `L_K⁻¹ b`. Per hinge: the Cholesky factor of `K = J_c A_c⁻¹ J_cᵀ`.
-    w: Vec<[f64; 6]>,
-    p: Vec<[f64; 6]>,
-    beta: Vec<f64>,
-    k_factor: Vec<Mat6>,
     /// Per body: the correction `Δ = M⁻¹ Jᵀ λ` of the last solve, components as for `z`.
     delta: Vec<[f64; 6]>,
     /// Bodies that locked hinges join.
@@ -241,6 +232,16 @@ struct Forest {
     /// Per entry of `order`: whether its far body is a leaf (no other locked hinge).
     leaf: Vec<bool>,
     roots: Vec<usize>,
+    /// Per body: the articulated block A (then its Cholesky factor) and the right-hand side z
+    /// (then `A⁻¹ z`), components (linear: N, angular: body).
+    art: Vec<Mat6>,
+    z: Vec<[f64; 6]>,
+    /// Per row: `A_c⁻¹ J_cᵀ` on its hinge's far body, `L_K⁻¹ J_p` on its near body, and
+    /// `L_K⁻¹ b`. Per hinge: the Cholesky factor of `K = J_c A_c⁻¹ J_cᵀ`.
+    w: Vec<[f64; 6]>,
+    p: Vec<[f64; 6]>,
+    beta: Vec<f64>,
+    k_factor: Vec<Mat6>,
 }
 
 /// In-place Cholesky factorization of the leading n×n block of `a` (lower triangle, with
@@ -529,25 +530,25 @@ impl Workspace {
 
     /// [`Self::correct`] by elimination along the forest of locked hinges.
     fn correct_forest(&mut self, model: &Model, rows: &[Row], residual: &[f64]) -> bool {
-        let Some(forest) = self.forest.take() else { return false };
-        let ok = self.eliminate(model, rows, residual, &forest);
+        let Some(mut forest) = self.forest.take() else { return false };
+        let ok = self.eliminate(model, rows, residual, &mut forest);
         self.forest = Some(forest);
         ok
     }
 
     /// The elimination of [`Self::correct_forest`] along `forest`.
     #[allow(clippy::needless_range_loop)] // index loops over small dense blocks, as the formulas
-    fn eliminate(&mut self, model: &Model, rows: &[Row], residual: &[f64], forest: &Forest) -> bool {
+    fn eliminate(&mut self, model: &Model, rows: &[Row], residual: &[f64], forest: &mut Forest) -> bool {
         let nb = model.bodies.len();
-        if self.art.len() < nb {
-            self.art.resize(nb, [[0.0; 6]; 6]);
-            self.z.resize(nb, [0.0; 6]);
+        if forest.art.len() < nb {
+            forest.art.resize(nb, [[0.0; 6]; 6]);
+            forest.z.resize(nb, [0.0; 6]);
         }
         let n = rows.len();
-        self.w.resize(n, [0.0; 6]);
-        self.p.resize(n, [0.0; 6]);
-        self.beta.resize(n, 0.0);
-        self.k_factor.resize(self.groups.len(), [[0.0; 6]; 6]);
+        forest.w.resize(n, [0.0; 6]);
+        forest.p.resize(n, [0.0; 6]);
+        forest.beta.resize(n, 0.0);
+        forest.k_factor.resize(self.groups.len(), [[0.0; 6]; 6]);
         self.lambda.clear();
         self.lambda.resize(n, 0.0);
         // The row's coefficients on one side, body components (linear: N, angular: body).
@@ -565,8 +566,8 @@ impl Workspace {
                     a[3 + k][3 + l] = body.inertia_in_body[(k, l)];
                 }
             }
-            self.art[b] = a;
-            self.z[b] = [0.0; 6];
+            forest.art[b] = a;
+            forest.z[b] = [0.0; 6];
         }
         // From the leaves: factor the far body's block (complete: its own hinges further out
         // come later in breadth-first order, so were eliminated before), then the hinge.
@@ -576,14 +577,14 @@ impl Workspace {
             // A leaf's block is its mass matrix, whose inverse the rows already carry
             // (`M⁻¹ Jᵀ`), and its right-hand side is zero.
             if !leaf {
-                if !cholesky_small(&mut self.art[far], 6) {
+                if !cholesky_small(&mut forest.art[far], 6) {
                     return false;
                 }
-                let (l_far, z_far) = (&self.art[far], &mut self.z[far]);
+                let (l_far, z_far) = (&forest.art[far], &mut forest.z[far]);
                 forward_small(l_far, 6, z_far);
                 backward_small(l_far, 6, z_far);
             }
-            let (y_far, l_far) = (&self.z[far], &self.art[far]);
+            let (y_far, l_far) = (&forest.z[far], &forest.art[far]);
             let mut j_far = [[0.0; 6]; 6];
             let mut j_near = [[0.0; 6]; 6];
             for r in start..end {
@@ -603,11 +604,11 @@ impl Workspace {
                     backward_small(l_far, 6, &mut w);
                     w
                 };
-                self.w[r] = w;
+                forest.w[r] = w;
                 for s in start..=r {
                     kk[r - start][s - start] = dot6(&j_far[s - start], &w);
                 }
-                self.beta[r] = -residual[r] - dot6(j, y_far);
+                forest.beta[r] = -residual[r] - dot6(j, y_far);
             }
             if !cholesky_small(&mut kk, k) {
                 return false;
@@ -617,15 +618,15 @@ impl Workspace {
                 let mut x: [f64; 6] = std::array::from_fn(|i| if i < k { j_near[i][c] } else { 0.0 });
                 forward_small(&kk, k, &mut x);
                 for i in 0..k {
-                    self.p[start + i][c] = x[i];
+                    forest.p[start + i][c] = x[i];
                 }
             }
-            forward_small(&kk, k, &mut self.beta[start..end]);
-            self.k_factor[g] = kk;
+            forward_small(&kk, k, &mut forest.beta[start..end]);
+            forest.k_factor[g] = kk;
             // Lower triangles only: the factorization reads no more.
-            let (art, z) = (&mut self.art[near], &mut self.z[near]);
+            let (art, z) = (&mut forest.art[near], &mut forest.z[near]);
             for r in start..end {
-                let (p, beta) = (&self.p[r], self.beta[r]);
+                let (p, beta) = (&forest.p[r], forest.beta[r]);
                 for i in 0..6 {
                     z[i] += p[i] * beta;
                     for j in 0..=i {
@@ -635,11 +636,11 @@ impl Workspace {
             }
         }
         for &root in &forest.roots {
-            if !cholesky_small(&mut self.art[root], 6) {
+            if !cholesky_small(&mut forest.art[root], 6) {
                 return false;
             }
-            let l = &self.art[root];
-            let mut d = self.z[root];
+            let l = &forest.art[root];
+            let mut d = forest.z[root];
             forward_small(l, 6, &mut d);
             backward_small(l, 6, &mut d);
             self.delta[root] = d;
@@ -651,14 +652,14 @@ impl Workspace {
             let d_near = self.delta[near];
             let mut lambda = [0.0; 6];
             for r in start..end {
-                lambda[r - start] = self.beta[r] - dot6(&self.p[r], &d_near);
+                lambda[r - start] = forest.beta[r] - dot6(&forest.p[r], &d_near);
             }
-            backward_small(&self.k_factor[g], k, &mut lambda[..k]);
+            backward_small(&forest.k_factor[g], k, &mut lambda[..k]);
             self.lambda[start..end].copy_from_slice(&lambda[..k]);
-            let mut d = self.z[far];
+            let mut d = forest.z[far];
             for r in start..end {
                 for i in 0..6 {
-                    d[i] += self.w[r][i] * lambda[r - start];
+                    d[i] += forest.w[r][i] * lambda[r - start];
                 }
             }
             self.delta[far] = d;

@@ -244,6 +244,150 @@ struct Forest {
     k_factor: Vec<Mat6>,
 }
 
+impl Forest {
+    /// The elimination of [`Workspace::correct_forest`] along this forest: the corrections
+    /// into `delta` and the multipliers into `lambda`, from the rows' body components `body`
+    /// and their grouping by hinge `groups`, for the bodies `touched`.
+    #[allow(clippy::needless_range_loop, clippy::too_many_arguments)] // index loops over small dense blocks, as the formulas
+    fn eliminate(
+        &mut self,
+        model: &Model,
+        rows: &[Row],
+        residual: &[f64],
+        body: &[[Vec3; 6]],
+        groups: &[(usize, usize)],
+        touched: &[usize],
+        lambda: &mut Vec<f64>,
+        delta: &mut [[f64; 6]],
+    ) -> bool {
+        let nb = model.bodies.len();
+        if self.art.len() < nb {
+            self.art.resize(nb, [[0.0; 6]; 6]);
+            self.z.resize(nb, [0.0; 6]);
+        }
+        let n = rows.len();
+        self.w.resize(n, [0.0; 6]);
+        self.p.resize(n, [0.0; 6]);
+        self.beta.resize(n, 0.0);
+        self.k_factor.resize(groups.len(), [[0.0; 6]; 6]);
+        lambda.clear();
+        lambda.resize(n, 0.0);
+        // The row's coefficients on one side, body components (linear: N, angular: body).
+        let row_on = |r: usize, side: usize| -> [f64; 6] {
+            let (lin, ang) = if side == 0 { (rows[r].lin_p, body[r][0]) } else { (rows[r].lin_c, body[r][3]) };
+            [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
+        };
+        for &b in touched {
+            let body = &model.bodies[b];
+            let mut a = [[0.0; 6]; 6];
+            for k in 0..3 {
+                a[k][k] = body.mass;
+                for l in 0..3 {
+                    a[3 + k][3 + l] = body.inertia_in_body[(k, l)];
+                }
+            }
+            self.art[b] = a;
+            self.z[b] = [0.0; 6];
+        }
+        // From the leaves: factor the far body's block (complete: its own hinges further out
+        // come later in breadth-first order, so were eliminated before), then the hinge.
+        for (&(g, near, far, far_side), &leaf) in self.order.iter().zip(&self.leaf).rev() {
+            let (start, end) = groups[g];
+            let k = end - start;
+            // A leaf's block is its mass matrix, whose inverse the rows already carry
+            // (`M⁻¹ Jᵀ`), and its right-hand side is zero.
+            if !leaf {
+                if !cholesky_small(&mut self.art[far], 6) {
+                    return false;
+                }
+                let (l_far, z_far) = (&self.art[far], &mut self.z[far]);
+                forward_small(l_far, 6, z_far);
+                backward_small(l_far, 6, z_far);
+            }
+            let (y_far, l_far) = (&self.z[far], &self.art[far]);
+            let mut j_far = [[0.0; 6]; 6];
+            let mut j_near = [[0.0; 6]; 6];
+            for r in start..end {
+                j_far[r - start] = row_on(r, far_side);
+                j_near[r - start] = row_on(r, 1 - far_side);
+            }
+            let mut kk = [[0.0; 6]; 6];
+            for r in start..end {
+                let j = &j_far[r - start];
+                let w = if leaf {
+                    let b = &body[r];
+                    let (lin, ang) = if far_side == 0 { (b[1], b[2]) } else { (b[4], b[5]) };
+                    [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
+                } else {
+                    let mut w = *j;
+                    forward_small(l_far, 6, &mut w);
+                    backward_small(l_far, 6, &mut w);
+                    w
+                };
+                self.w[r] = w;
+                for s in start..=r {
+                    kk[r - start][s - start] = dot6(&j_far[s - start], &w);
+                }
+                self.beta[r] = -residual[r] - dot6(j, y_far);
+            }
+            if !cholesky_small(&mut kk, k) {
+                return false;
+            }
+            // P = L_K⁻¹ J_near, β = L_K⁻¹ b, column by column of the near side.
+            for c in 0..6 {
+                let mut x: [f64; 6] = std::array::from_fn(|i| if i < k { j_near[i][c] } else { 0.0 });
+                forward_small(&kk, k, &mut x);
+                for i in 0..k {
+                    self.p[start + i][c] = x[i];
+                }
+            }
+            forward_small(&kk, k, &mut self.beta[start..end]);
+            self.k_factor[g] = kk;
+            // Lower triangles only: the factorization reads no more.
+            let (art, z) = (&mut self.art[near], &mut self.z[near]);
+            for r in start..end {
+                let (p, beta) = (&self.p[r], self.beta[r]);
+                for i in 0..6 {
+                    z[i] += p[i] * beta;
+                    for j in 0..=i {
+                        art[i][j] += p[i] * p[j];
+                    }
+                }
+            }
+        }
+        for &root in &self.roots {
+            if !cholesky_small(&mut self.art[root], 6) {
+                return false;
+            }
+            let l = &self.art[root];
+            let mut d = self.z[root];
+            forward_small(l, 6, &mut d);
+            backward_small(l, 6, &mut d);
+            delta[root] = d;
+        }
+        // From the roots: each hinge's multipliers, then its far body.
+        for &(g, near, far, _) in &self.order {
+            let (start, end) = groups[g];
+            let k = end - start;
+            let d_near = delta[near];
+            let mut mult = [0.0; 6];
+            for r in start..end {
+                mult[r - start] = self.beta[r] - dot6(&self.p[r], &d_near);
+            }
+            backward_small(&self.k_factor[g], k, &mut mult[..k]);
+            lambda[start..end].copy_from_slice(&mult[..k]);
+            let mut d = self.z[far];
+            for r in start..end {
+                for i in 0..6 {
+                    d[i] += self.w[r][i] * mult[r - start];
+                }
+            }
+            delta[far] = d;
+        }
+        true
+    }
+}
+
 /// In-place Cholesky factorization of the leading n×n block of `a` (lower triangle, with
 /// the reciprocal of the diagonal stored on the diagonal). False if not positive definite.
 // Index loops over small dense blocks read as the formulas they implement.
@@ -530,141 +674,9 @@ impl Workspace {
 
     /// [`Self::correct`] by elimination along the forest of locked hinges.
     fn correct_forest(&mut self, model: &Model, rows: &[Row], residual: &[f64]) -> bool {
-        let Some(mut forest) = self.forest.take() else { return false };
-        let ok = self.eliminate(model, rows, residual, &mut forest);
-        self.forest = Some(forest);
-        ok
-    }
-
-    /// The elimination of [`Self::correct_forest`] along `forest`.
-    #[allow(clippy::needless_range_loop)] // index loops over small dense blocks, as the formulas
-    fn eliminate(&mut self, model: &Model, rows: &[Row], residual: &[f64], forest: &mut Forest) -> bool {
-        let nb = model.bodies.len();
-        if forest.art.len() < nb {
-            forest.art.resize(nb, [[0.0; 6]; 6]);
-            forest.z.resize(nb, [0.0; 6]);
-        }
-        let n = rows.len();
-        forest.w.resize(n, [0.0; 6]);
-        forest.p.resize(n, [0.0; 6]);
-        forest.beta.resize(n, 0.0);
-        forest.k_factor.resize(self.groups.len(), [[0.0; 6]; 6]);
-        self.lambda.clear();
-        self.lambda.resize(n, 0.0);
-        // The row's coefficients on one side, body components (linear: N, angular: body).
-        let row_on = |r: usize, side: usize| -> [f64; 6] {
-            let (lin, ang) =
-                if side == 0 { (rows[r].lin_p, self.body[r][0]) } else { (rows[r].lin_c, self.body[r][3]) };
-            [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
-        };
-        for &b in &self.touched {
-            let body = &model.bodies[b];
-            let mut a = [[0.0; 6]; 6];
-            for k in 0..3 {
-                a[k][k] = body.mass;
-                for l in 0..3 {
-                    a[3 + k][3 + l] = body.inertia_in_body[(k, l)];
-                }
-            }
-            forest.art[b] = a;
-            forest.z[b] = [0.0; 6];
-        }
-        // From the leaves: factor the far body's block (complete: its own hinges further out
-        // come later in breadth-first order, so were eliminated before), then the hinge.
-        for (&(g, near, far, far_side), &leaf) in forest.order.iter().zip(&forest.leaf).rev() {
-            let (start, end) = self.groups[g];
-            let k = end - start;
-            // A leaf's block is its mass matrix, whose inverse the rows already carry
-            // (`M⁻¹ Jᵀ`), and its right-hand side is zero.
-            if !leaf {
-                if !cholesky_small(&mut forest.art[far], 6) {
-                    return false;
-                }
-                let (l_far, z_far) = (&forest.art[far], &mut forest.z[far]);
-                forward_small(l_far, 6, z_far);
-                backward_small(l_far, 6, z_far);
-            }
-            let (y_far, l_far) = (&forest.z[far], &forest.art[far]);
-            let mut j_far = [[0.0; 6]; 6];
-            let mut j_near = [[0.0; 6]; 6];
-            for r in start..end {
-                j_far[r - start] = row_on(r, far_side);
-                j_near[r - start] = row_on(r, 1 - far_side);
-            }
-            let mut kk = [[0.0; 6]; 6];
-            for r in start..end {
-                let j = &j_far[r - start];
-                let w = if leaf {
-                    let b = &self.body[r];
-                    let (lin, ang) = if far_side == 0 { (b[1], b[2]) } else { (b[4], b[5]) };
-                    [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
-                } else {
-                    let mut w = *j;
-                    forward_small(l_far, 6, &mut w);
-                    backward_small(l_far, 6, &mut w);
-                    w
-                };
-                forest.w[r] = w;
-                for s in start..=r {
-                    kk[r - start][s - start] = dot6(&j_far[s - start], &w);
-                }
-                forest.beta[r] = -residual[r] - dot6(j, y_far);
-            }
-            if !cholesky_small(&mut kk, k) {
-                return false;
-            }
-            // P = L_K⁻¹ J_near, β = L_K⁻¹ b, column by column of the near side.
-            for c in 0..6 {
-                let mut x: [f64; 6] = std::array::from_fn(|i| if i < k { j_near[i][c] } else { 0.0 });
-                forward_small(&kk, k, &mut x);
-                for i in 0..k {
-                    forest.p[start + i][c] = x[i];
-                }
-            }
-            forward_small(&kk, k, &mut forest.beta[start..end]);
-            forest.k_factor[g] = kk;
-            // Lower triangles only: the factorization reads no more.
-            let (art, z) = (&mut forest.art[near], &mut forest.z[near]);
-            for r in start..end {
-                let (p, beta) = (&forest.p[r], forest.beta[r]);
-                for i in 0..6 {
-                    z[i] += p[i] * beta;
-                    for j in 0..=i {
-                        art[i][j] += p[i] * p[j];
-                    }
-                }
-            }
-        }
-        for &root in &forest.roots {
-            if !cholesky_small(&mut forest.art[root], 6) {
-                return false;
-            }
-            let l = &forest.art[root];
-            let mut d = forest.z[root];
-            forward_small(l, 6, &mut d);
-            backward_small(l, 6, &mut d);
-            self.delta[root] = d;
-        }
-        // From the roots: each hinge's multipliers, then its far body.
-        for &(g, near, far, _) in &forest.order {
-            let (start, end) = self.groups[g];
-            let k = end - start;
-            let d_near = self.delta[near];
-            let mut lambda = [0.0; 6];
-            for r in start..end {
-                lambda[r - start] = forest.beta[r] - dot6(&forest.p[r], &d_near);
-            }
-            backward_small(&forest.k_factor[g], k, &mut lambda[..k]);
-            self.lambda[start..end].copy_from_slice(&lambda[..k]);
-            let mut d = forest.z[far];
-            for r in start..end {
-                for i in 0..6 {
-                    d[i] += forest.w[r][i] * lambda[r - start];
-                }
-            }
-            self.delta[far] = d;
-        }
-        true
+        let Workspace { forest, body, groups, touched, lambda, delta, .. } = self;
+        let Some(forest) = forest.as_mut() else { return false };
+        forest.eliminate(model, rows, residual, body, groups, touched, lambda, delta)
     }
 }
 

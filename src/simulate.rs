@@ -498,7 +498,7 @@ pub fn simulate(
     let mut differenced_jacobians = 0;
     let result = match settings.integrator {
         Integrator::Sdirk4 { rtol, atol } => {
-            let mut newton = GraphNewton::new(&dynamics, model).with_exact(&dynamics);
+            let mut newton = GraphNewton::new_exact(&dynamics, model, &dynamics);
             let r = integrate_sdirk4(&dynamics, &mut newton, rtol, atol, 0.0, settings.duration, &y0, |step| {
                 out.on_step(step)
             });

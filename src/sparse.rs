@@ -14,7 +14,7 @@
 //!
 //! `(A_x, A_v)` are exact, from dual numbers ([`crate::jacobian`]), when the system offers
 //! them; with locked directions the locks then become rows of the twist system (one node
-//! per locked hinge, see [`GraphNewton::with_exact`]). Otherwise (a law without a dual
+//! per locked hinge, see [`GraphNewton::new_exact`]). Otherwise (a law without a dual
 //! form) they come from forward differences of the right-hand side with a distance-2
 //! colouring of the body graph: bodies of one colour have disjoint neighbourhoods, so one
 //! evaluation per colour and state component fills all their columns (13 × colours
@@ -130,10 +130,8 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     /// the scaled multipliers per locked hinge).
     p_rx: Vec<Vec7>,
     twist: Vec<Vec6>,
-    /// Hinges joined by each pair of bodies (the body graph's edges).
-    edges: Vec<(usize, usize)>,
     /// Locked hinges (parent, child, locked directions) carried as constraint rows: node
-    /// `nb + g` of the elimination (see [`GraphNewton::with_exact`]). Empty otherwise.
+    /// `nb + g` of the elimination (see [`GraphNewton::new_exact`]). Empty otherwise.
     groups: Vec<(usize, usize, usize)>,
     /// The locks' rows at the last Jacobian, in the order of `groups`.
     group_rows: Vec<ConstraintRow>,
@@ -143,8 +141,68 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
     /// The Newton matrix of `system`, whose state is laid out for `model` (bodies, then one
     /// integral per hinge).
     pub fn new(system: &'a S, model: &Model) -> Self {
+        Self::build(system, model, None)
+    }
+
+    /// The Newton matrix of `system`, laid out as for [`Self::new`], whose Jacobian is formed
+    /// exactly from `source` where it can (see [`ExactJacobian`]).
+    ///
+    /// With locked directions the Newton matrix carries the constraints as rows instead of
+    /// differencing the constraint solve (which couples whole clusters of bodies). With
+    /// `M a = F + Jᵀλ` and `J a + γ = 0` linearised exactly (C = ∂(Ja + γ)/∂(x, v) with a
+    /// held, the constraint wrenches' derivatives with λ held added to A), the twist system
+    /// becomes
+    ///
+    /// `[S  −M⁻¹Jᵀ; J + hγ C_v + (hγ)² C_x P ∂ẋ/∂v  0] [Δv; hγ Δλ] = [r̃_v; J r_v − hγ C_x P r_x]`.
+    ///
+    /// Its graph is the hinge graph plus one node per locked hinge, so its elimination stays
+    /// sparse.
+    pub fn new_exact(system: &'a S, model: &Model, source: &'a dyn ExactJacobian) -> Self {
+        Self::build(system, model, Some(source))
+    }
+
+    fn build(system: &'a S, model: &Model, exact: Option<&'a dyn ExactJacobian>) -> Self {
         let nb = model.bodies.len();
         let edges: Vec<(usize, usize)> = model.hinges.iter().map(|h| (h.parent, h.child)).collect();
+        let groups = exact.map(|e| e.locked_hinges()).unwrap_or_default();
+        let mut newton = Self {
+            system,
+            exact,
+            exact_count: 0,
+            differenced_count: 0,
+            nb,
+            n: B * nb + model.hinges.len(),
+            jac_x: Vec::new(),
+            jac_v: Vec::new(),
+            neighbours: Vec::new(),
+            colours: Vec::new(),
+            pose: vec![PoseRates::default(); nb],
+            h_gamma: 0.0,
+            order: Vec::new(),
+            position: Vec::new(),
+            pivots: Vec::new(),
+            upper: Vec::new(),
+            lower: Vec::new(),
+            evaluations: 0,
+            p_rx: Vec::new(),
+            twist: Vec::new(),
+            groups,
+            group_rows: Vec::new(),
+        };
+        // With an exact Jacobian the locks are rows of the system (`groups`), and bodies couple
+        // along hinges only.
+        if newton.groups.is_empty() {
+            newton.set_structure(&Self::differenced_coupling(model, edges));
+        } else {
+            newton.set_structure(&edges);
+        }
+        newton
+    }
+
+    /// The body pairs a differenced Jacobian couples: the hinges, and every pair in a cluster
+    /// of bodies joined by locked hinges.
+    fn differenced_coupling(model: &Model, edges: Vec<(usize, usize)>) -> Vec<(usize, usize)> {
+        let nb = model.bodies.len();
         // Differenced Jacobians see the constraint solve, which couples every body of a
         // cluster joined by locked hinges (the multipliers are solved over the whole
         // cluster): each such body depends on all the others.
@@ -165,39 +223,13 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             let r = root(&mut cluster, i);
             members[r].push(i);
         }
-        let mut coupled = edges.clone();
+        let mut coupled = edges;
         for m in members.iter().filter(|m| m.len() > 1) {
             for (k, &i) in m.iter().enumerate() {
                 coupled.extend(m[k + 1..].iter().map(|&j| (i, j)));
             }
         }
-        let mut newton = Self {
-            system,
-            exact: None,
-            exact_count: 0,
-            differenced_count: 0,
-            nb,
-            n: B * nb + model.hinges.len(),
-            jac_x: Vec::new(),
-            jac_v: Vec::new(),
-            neighbours: Vec::new(),
-            colours: Vec::new(),
-            pose: vec![PoseRates::default(); nb],
-            h_gamma: 0.0,
-            order: Vec::new(),
-            position: Vec::new(),
-            pivots: Vec::new(),
-            upper: Vec::new(),
-            lower: Vec::new(),
-            evaluations: 0,
-            p_rx: Vec::new(),
-            twist: Vec::new(),
-            edges,
-            groups: Vec::new(),
-            group_rows: Vec::new(),
-        };
-        newton.set_structure(&coupled);
-        newton
+        coupled
     }
 
     /// Neighbourhoods, colouring and elimination order for bodies coupled along `pairs`,
@@ -278,30 +310,6 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         self.colours = colours;
         self.order = order;
         self.position = position;
-    }
-
-    /// Forms the Jacobian exactly from `source` where it can (see [`ExactJacobian`]).
-    ///
-    /// With locked directions the Newton matrix carries the constraints as rows instead of
-    /// differencing the constraint solve (which couples whole clusters of bodies). With
-    /// `M a = F + Jᵀλ` and `J a + γ = 0` linearised exactly (C = ∂(Ja + γ)/∂(x, v) with a
-    /// held, the constraint wrenches' derivatives with λ held added to A), the twist system
-    /// becomes
-    ///
-    /// `[S  −M⁻¹Jᵀ; J + hγ C_v + (hγ)² C_x P ∂ẋ/∂v  0] [Δv; hγ Δλ] = [r̃_v; J r_v − hγ C_x P r_x]`.
-    ///
-    /// Its graph is the hinge graph plus one node per locked hinge, so its elimination stays
-    /// sparse.
-    pub fn with_exact(mut self, source: &'a dyn ExactJacobian) -> Self {
-        self.exact = Some(source);
-        let groups = source.locked_hinges();
-        if !groups.is_empty() {
-            self.groups = groups;
-            let edges = std::mem::take(&mut self.edges);
-            self.set_structure(&edges);
-            self.edges = edges;
-        }
-        self
     }
 
     /// Jacobians formed so far: (exactly, by finite differences).
@@ -542,7 +550,7 @@ mod tests {
             dynamics.initialize_memory(&y);
             let mut f = vec![0.0; y.len()];
             crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
-            let mut newton = GraphNewton::new(&dynamics, &s.model).with_exact(&dynamics);
+            let mut newton = GraphNewton::new_exact(&dynamics, &s.model, &dynamics);
             assert!(newton.prepare(0.0, &y, &f, 1e-3));
             assert_eq!(newton.jacobian_counts(), (1, 0), "exact Jacobian for law 2");
             let pairs = 2 * s.model.hinges.len();
@@ -565,10 +573,11 @@ mod tests {
         assert!(dynamics.check_locks(&y).is_ok());
         let mut f = vec![0.0; y.len()];
         crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
-        let mut graph = GraphNewton::new(&dynamics, &s.model);
-        if exact {
-            graph = graph.with_exact(&dynamics);
-        }
+        let mut graph = if exact {
+            GraphNewton::new_exact(&dynamics, &s.model, &dynamics)
+        } else {
+            GraphNewton::new(&dynamics, &s.model)
+        };
         let mut dense = DenseNewton::new(&dynamics, y.len());
         assert!(graph.prepare(0.0, &y, &f, h_gamma));
         assert_eq!(graph.jacobian_counts(), if exact { (1, 0) } else { (0, 1) });

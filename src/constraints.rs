@@ -88,13 +88,27 @@ pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler
     out
 }
 
-/// A row's part on one body in that body's twist components: its angular coefficients in
-/// body components, and `M⁻¹ Jᵀ` (linear: N components, angular: body components), from
-/// the linear and angular coefficients `lin`, `ang` (N components).
-fn on_body(model: &Model, motions: &[BodyMotion], body: usize, lin: &Vec3, ang: &Vec3) -> [Vec3; 3] {
+/// A row's part on one body in that body's twist components (linear: N, angular: body, as
+/// the state's `(v, ω)` and their derivatives are stored): its coefficients, and `M⁻¹ Jᵀ`,
+/// from the linear and angular coefficients `lin`, `ang` (N components).
+/// Written into `out` in place (returning the 96 bytes costs a copy per row).
+#[inline]
+fn on_body(model: &Model, motions: &[BodyMotion], body: usize, lin: &Vec3, ang: &Vec3, out: &mut [[f64; 6]]) {
     let b = &model.bodies[body];
     let ang_b = motions[body].dcm_n_b.tr_mul(ang);
-    [ang_b, lin / b.mass, b.inertia_inv_in_body * ang_b]
+    let m_ang = b.inertia_inv_in_body * ang_b;
+    let inv_mass = 1.0 / b.mass;
+    out[0] = [lin.x, lin.y, lin.z, ang_b.x, ang_b.y, ang_b.z];
+    out[1] = [lin.x * inv_mass, lin.y * inv_mass, lin.z * inv_mass, m_ang.x, m_ang.y, m_ang.z];
+}
+
+/// Body `b`'s twist part `(v̇ or Δv in N components, ω̇ or Δω in body components)` of a
+/// state-like vector `y` (the layout of [`crate::state`]: VEL and OMEGA are adjacent).
+#[inline]
+fn twist6(y: &[f64], b: usize) -> &[f64; 6] {
+    const { assert!(OMEGA == VEL + 3) };
+    let o = BODY_STATE_LEN * b + VEL;
+    y[o..o + 6].try_into().expect("six components")
 }
 
 /// Appends to `out` the rows of `locks`, all of hinge `h`, from the hinge's kinematics `k`
@@ -119,7 +133,8 @@ pub fn hinge_rows<T: Real>(
     let mut relative: Option<Vector3<T>> = None;
     for lock in locks {
         let zero = real::<T>(0.0);
-        let mut row = Row {
+        // Filled in place: building the row and pushing it costs a copy of it.
+        out.push(Row {
             parent: h.parent,
             child: h.child,
             lin_p: Vector3::zeros(),
@@ -129,7 +144,8 @@ pub fn hinge_rows<T: Real>(
             gamma: zero,
             error: zero,
             rate: zero,
-        };
+        });
+        let row = out.last_mut().expect("just pushed");
         if lock.direction < 3 {
             // δ̇ = [A0 N] w, w = v_A − v_p − ω_p × a_p, v_A = v_c + ω_c × a_c.
             let u = k.dcm_n_a0.column(lock.direction).into_owned();
@@ -164,7 +180,6 @@ pub fn hinge_rows<T: Real>(
             row.error = theta.as_vector()[j] - real::<T>(lock.target);
             row.rate = theta_rate[j];
         }
-        out.push(row);
     }
 }
 
@@ -185,17 +200,19 @@ pub fn hinge_rows<T: Real>(
 ///   i's — and factored there (Cholesky makes no fill outside the envelope).
 #[derive(Debug, Default)]
 pub struct Workspace {
-    /// Per row, body components: the parent's angular row part `[p N] j_ω`, then
-    /// `M⁻¹ Jᵀ` on the parent (linear in N, angular in body components), the child's angular
-    /// row part and `M⁻¹ Jᵀ` on the child.
-    body: Vec<[Vec3; 6]>,
+    /// Per row, in the bodies' twist components (linear: N, angular: body): its coefficients
+    /// on the parent, `M⁻¹ Jᵀ` on the parent, its coefficients on the child, `M⁻¹ Jᵀ` on the
+    /// child.
+    parts: Vec<[[f64; 6]; 4]>,
     /// Rows `start..end` of each hinge (rows of one hinge are contiguous).
     groups: Vec<(usize, usize)>,
     /// Hinges (indices into `groups`) met so far per body (emptied after use).
     by_body: Vec<Vec<usize>>,
-    /// (hinge, earlier or same hinge sharing a body), sorted.
-    pairs: Vec<(usize, usize)>,
-    /// Per hinge (start row, end row, parent, child): what `pairs`, `first` and `offset`
+    /// The products that make up K's entries within the envelope: (index into `matrix`, row
+    /// r, row s, side of r's coefficients, side of s's `M⁻¹ Jᵀ`), one per body that rows r
+    /// and s share (indices into `parts`: 0 or 2, and 1 or 3).
+    terms: Vec<(usize, usize, usize, u8, u8)>,
+    /// Per hinge (start row, end row, parent, child): what `terms`, `first` and `offset`
     /// were computed for.
     structure: Vec<(usize, usize, usize, usize)>,
     /// Per row: the first column of its envelope.
@@ -246,7 +263,7 @@ struct Forest {
 
 impl Forest {
     /// The elimination of [`Workspace::correct_forest`] along this forest: the corrections
-    /// into `delta` and the multipliers into `lambda`, from the rows' body components `body`
+    /// into `delta` and the multipliers into `lambda`, from the rows' body components `parts`
     /// and their grouping by hinge `groups`, for the bodies `touched`.
     #[allow(clippy::needless_range_loop, clippy::too_many_arguments)] // index loops over small dense blocks, as the formulas
     fn eliminate(
@@ -254,7 +271,7 @@ impl Forest {
         model: &Model,
         rows: &[Row],
         residual: &[f64],
-        body: &[[Vec3; 6]],
+        parts: &[[[f64; 6]; 4]],
         groups: &[(usize, usize)],
         touched: &[usize],
         lambda: &mut Vec<f64>,
@@ -273,10 +290,7 @@ impl Forest {
         lambda.clear();
         lambda.resize(n, 0.0);
         // The row's coefficients on one side, body components (linear: N, angular: body).
-        let row_on = |r: usize, side: usize| -> [f64; 6] {
-            let (lin, ang) = if side == 0 { (rows[r].lin_p, body[r][0]) } else { (rows[r].lin_c, body[r][3]) };
-            [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
-        };
+        let row_on = |r: usize, side: usize| -> [f64; 6] { parts[r][2 * side] };
         for &b in touched {
             let body = &model.bodies[b];
             let mut a = [[0.0; 6]; 6];
@@ -315,9 +329,7 @@ impl Forest {
             for r in start..end {
                 let j = &j_far[r - start];
                 let w = if leaf {
-                    let b = &body[r];
-                    let (lin, ang) = if far_side == 0 { (b[1], b[2]) } else { (b[4], b[5]) };
-                    [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
+                    parts[r][2 * far_side + 1]
                 } else {
                     let mut w = *j;
                     forward_small(l_far, 6, &mut w);
@@ -456,14 +468,13 @@ impl Workspace {
     /// structure of the solve when the set of locked hinges changed.
     fn prepare(&mut self, model: &Model, rows: &[Row], motions: &[BodyMotion]) {
         let bodies = &model.bodies;
-        // Per row and side: the angular part in body components, M⁻¹ Jᵀ (linear: N, angular:
-        // body components, I⁻¹ [b N] j_ω).
-        self.body.clear();
+        // Per row and side: the coefficients in body components and M⁻¹ Jᵀ.
+        // Filled in place: pushing the 192-byte parts costs a copy each.
+        self.parts.resize(rows.len(), [[0.0; 6]; 4]);
         self.groups.clear();
-        for (i, r) in rows.iter().enumerate() {
-            let [a, b, c] = on_body(model, motions, r.parent, &r.lin_p, &r.ang_p);
-            let [d, e, f] = on_body(model, motions, r.child, &r.lin_c, &r.ang_c);
-            self.body.push([a, b, c, d, e, f]);
+        for (i, (r, part)) in rows.iter().zip(self.parts.iter_mut()).enumerate() {
+            on_body(model, motions, r.parent, &r.lin_p, &r.ang_p, &mut part[..2]);
+            on_body(model, motions, r.child, &r.lin_c, &r.ang_c, &mut part[2..]);
             match self.groups.last_mut() {
                 Some((start, end)) if rows[*start].parent == r.parent && rows[*start].child == r.child => *end = i + 1,
                 _ => self.groups.push((i, i + 1)),
@@ -527,24 +538,40 @@ impl Workspace {
                 self.by_body[rows[g.0].parent].clear();
                 self.by_body[rows[g.0].child].clear();
             }
-            self.pairs.clear();
+            self.terms.clear();
             if self.forest.is_none() {
-                self.envelope_pairs(rows);
+                self.envelope_terms(rows);
             }
         }
     }
 
-    /// The hinge pairs that share a body: the envelope's nonzero blocks (for a hub holding n
-    /// locked hinges there are n²/2, so they are listed only when the envelope is used).
-    fn envelope_pairs(&mut self, rows: &[Row]) {
-        self.pairs.clear();
+    /// The products that make up K's entries, from the hinge pairs that share a body (the
+    /// envelope's nonzero blocks: for a hub holding n locked hinges there are n²/2, so they
+    /// are listed only when the envelope is used).
+    fn envelope_terms(&mut self, rows: &[Row]) {
+        self.terms.clear();
         for (gi, g) in self.groups.iter().enumerate() {
             let (p, c) = (rows[g.0].parent, rows[g.0].child);
             let mut partners: Vec<usize> = self.by_body[p].iter().chain(&self.by_body[c]).copied().collect();
             partners.push(gi);
             partners.sort_unstable();
             partners.dedup();
-            self.pairs.extend(partners.into_iter().map(|hi| (gi, hi)));
+            for hi in partners {
+                let h = self.groups[hi];
+                let (ph, ch) = (rows[h.0].parent, rows[h.0].child);
+                for r in g.0..g.1 {
+                    for s in h.0..h.1.min(r + 1) {
+                        let k = self.offset[r] + s - self.first[r];
+                        for (a, body_r) in [(0, p), (2, c)] {
+                            for (b, body_s) in [(1, ph), (3, ch)] {
+                                if body_r == body_s {
+                                    self.terms.push((k, r, s, a, b));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
             self.by_body[p].push(gi);
             self.by_body[c].push(gi);
         }
@@ -554,39 +581,14 @@ impl Workspace {
         }
     }
 
-    /// Assembles `K = J M⁻¹ Jᵀ` for `rows` (after [`Self::prepare`]) in its envelope and
-    /// factors it. Returns false if K is singular (redundant locks).
-    fn factor_envelope(&mut self, rows: &[Row]) -> bool {
+    /// Assembles `K = J M⁻¹ Jᵀ` (after [`Self::prepare`]) in its envelope and factors it.
+    /// Returns false if K is singular (redundant locks).
+    fn factor_envelope(&mut self) -> bool {
         let size = self.offset.last().map_or(0, |o| o + self.first.len() - self.first.last().unwrap_or(&0));
         self.matrix.clear();
         self.matrix.resize(size, 0.0);
-        let meets = |g: &(usize, usize), h: &(usize, usize)| {
-            let (pa, ca, pb, cb) = (rows[g.0].parent, rows[g.0].child, rows[h.0].parent, rows[h.0].child);
-            [pa == pb, pa == cb, ca == pb, ca == cb]
-        };
-        for &(gi, hi) in &self.pairs {
-            let (g, h) = (self.groups[gi], self.groups[hi]);
-            let m = meets(&g, &h);
-            for (r, (ra, ba)) in rows.iter().zip(&self.body).enumerate().take(g.1).skip(g.0) {
-                for s in h.0..h.1.min(r + 1) {
-                    let bb = &self.body[s];
-                    let mut v = 0.0;
-                    if m[0] {
-                        v += ra.lin_p.dot(&bb[1]) + ba[0].dot(&bb[2]);
-                    }
-                    if m[1] {
-                        v += ra.lin_p.dot(&bb[4]) + ba[0].dot(&bb[5]);
-                    }
-                    if m[2] {
-                        v += ra.lin_c.dot(&bb[1]) + ba[3].dot(&bb[2]);
-                    }
-                    if m[3] {
-                        v += ra.lin_c.dot(&bb[4]) + ba[3].dot(&bb[5]);
-                    }
-                    let k = self.offset[r] + s - self.first[r];
-                    self.matrix[k] = v;
-                }
-            }
+        for &(k, r, s, a, b) in &self.terms {
+            self.matrix[k] += dot6(&self.parts[r][a as usize], &self.parts[s][b as usize]);
         }
         self.cholesky()
     }
@@ -654,18 +656,16 @@ impl Workspace {
         if self.forest.is_some() {
             return self.correct_forest(model, rows, residual);
         }
-        if !self.factor_envelope(rows) {
+        if !self.factor_envelope() {
             return false;
         }
         self.lambda.clear();
         self.lambda.extend(residual.iter().map(|r| -r));
         self.solve();
-        for ((row, b), &l) in rows.iter().zip(&self.body).zip(&self.lambda) {
-            for (body, lin, ang) in [(row.parent, b[1], b[2]), (row.child, b[4], b[5])] {
-                let d = &mut self.delta[body];
-                for k in 0..3 {
-                    d[k] += lin[k] * l;
-                    d[3 + k] += ang[k] * l;
+        for ((row, part), &l) in rows.iter().zip(&self.parts).zip(&self.lambda) {
+            for (body, m) in [(row.parent, &part[1]), (row.child, &part[3])] {
+                for (d, m) in self.delta[body].iter_mut().zip(m) {
+                    *d += m * l;
                 }
             }
         }
@@ -674,9 +674,9 @@ impl Workspace {
 
     /// [`Self::correct`] by elimination along the forest of locked hinges.
     fn correct_forest(&mut self, model: &Model, rows: &[Row], residual: &[f64]) -> bool {
-        let Workspace { forest, body, groups, touched, lambda, delta, .. } = self;
+        let Workspace { forest, parts, groups, touched, lambda, delta, .. } = self;
         let Some(forest) = forest.as_mut() else { return false };
-        forest.eliminate(model, rows, residual, body, groups, touched, lambda, delta)
+        forest.eliminate(model, rows, residual, parts, groups, touched, lambda, delta)
     }
 }
 
@@ -733,29 +733,22 @@ pub fn constrain_accelerations(
     work: &mut Workspace,
 ) -> bool {
     work.prepare(model, rows, motions);
-    let at = |b: usize, off: usize| {
-        let o = BODY_STATE_LEN * b + off;
-        Vec3::new(dydt[o], dydt[o + 1], dydt[o + 2])
-    };
     let mut residual = std::mem::take(&mut work.residual);
     residual.clear();
-    residual.extend(rows.iter().zip(&work.body).map(|(r, b)| {
-        r.gamma
-            + r.lin_p.dot(&at(r.parent, VEL))
-            + b[0].dot(&at(r.parent, OMEGA))
-            + r.lin_c.dot(&at(r.child, VEL))
-            + b[3].dot(&at(r.child, OMEGA))
-    }));
+    residual.extend(
+        rows.iter()
+            .zip(&work.parts)
+            .map(|(r, p)| r.gamma + dot6(&p[0], twist6(dydt, r.parent)) + dot6(&p[2], twist6(dydt, r.child))),
+    );
     let ok = work.correct(model, rows, &residual);
     work.residual = residual;
     if !ok {
         return false;
     }
     for &body in &work.touched {
-        let (o, d) = (BODY_STATE_LEN * body, &work.delta[body]);
-        for k in 0..3 {
-            dydt[o + VEL + k] += d[k];
-            dydt[o + OMEGA + k] += d[3 + k];
+        let o = BODY_STATE_LEN * body + VEL;
+        for (a, d) in dydt[o..o + 6].iter_mut().zip(&work.delta[body]) {
+            *a += d;
         }
     }
     true
@@ -865,7 +858,7 @@ mod tests {
             assert!(work.correct(&s.model, &rows, &residual));
             let by_forest = work.delta.clone();
             work.forest = None;
-            work.envelope_pairs(&rows);
+            work.envelope_terms(&rows);
             assert!(work.correct(&s.model, &rows, &residual));
             let scale = work.delta.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
             let diff = by_forest

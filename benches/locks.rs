@@ -23,7 +23,9 @@
 //! N = 8 … 512.
 //! Prints the machine's load average, since these machines are shared.
 //! Run: `cargo bench --bench locks` (add `-- --quick` for a short pass, or
-//! `-- --profile CASE free|locked` with CASE 0 … 4 for one RHS loop under a profiler).
+//! `-- --profile CASE free|locked` with CASE 0 … 4 for one RHS loop under a profiler, or
+//! `-- --profile-run CASE free|locked|stiff` for three whole runs; `-- --sweep` for the
+//! stiffness sweep of [`sweep`] instead of the cases).
 
 use foldsim::dynamics::Dynamics;
 use foldsim::init::initial_state;
@@ -131,6 +133,52 @@ fn run(s: &Scenario) -> (f64, u64) {
     (r.wall_seconds, r.rhs_evaluations)
 }
 
+/// Locked against the hinge's own law: the z-fold example with `directions` locked, or held
+/// by springs from the example's own (2e5 N/m, 2e3 N·m/rad) up through DESIGN.md's normal
+/// range for real hinges (1e6–1e9 N/m; rotational stiffness 1/100 of it in N·m/rad), damped
+/// in proportion to √k from the example's damping, under DOP853 at the example's tolerance
+/// and SDIRK4 at 1e-8. Prints run wall time locked / spring (median of `reps` alternating
+/// runs each) and the RHS evaluations.
+fn sweep(reps: usize) {
+    const STIFFNESS: [f64; 5] = [2e5, 1e6, 1e7, 1e8, 1e9];
+    println!("\nlocked vs spring of stiffness k (N/m; k/100 N·m/rad): run wall locked / spring [RHS evals spring]");
+    print!("{:<34} {:>10}", "directions, integrator", "locked s");
+    for k in STIFFNESS {
+        print!(" {:>22}", format!("k = {k:e}"));
+    }
+    println!();
+    let integrators: [(&str, &[(&str, &str)]); 2] =
+        [("dop853 1e-10", &[]), ("sdirk4 1e-8", &[("rtol", "1e-8"), ("atol", "1e-8"), ("integrator", "\"sdirk4\"")])];
+    let direction_sets: [&[&str]; 3] = [&["z"], &["z", "rx", "ry"], &["x", "y", "z", "rx", "ry"]];
+    for (integrator, settings) in integrators {
+        for dirs in direction_sets {
+            let file = "zfold-tape-latch.toml";
+            let locked = variant(file, dirs, "locked", 10.0, EXAMPLE_SPRINGS, settings);
+            let (mut wall_locked, mut n_locked) = (Vec::new(), 0);
+            let mut row = String::new();
+            for k in STIFFNESS {
+                let k_r = k / 100.0;
+                let translational = format!("k = {k:e}, damping = {:e}", 20.0 * (k / 2e5).sqrt());
+                let rotational = format!("k = {k_r:e}, damping = {:e}", 0.5 * (k_r / 2e3).sqrt());
+                let spring = variant(file, dirs, "stiff", 10.0, (&translational, &rotational), settings);
+                let (mut wall_spring, mut n_spring) = (Vec::new(), 0);
+                for _ in 0..reps {
+                    let (w, n) = run(&locked);
+                    wall_locked.push(w);
+                    n_locked = n;
+                    let (w, n) = run(&spring);
+                    wall_spring.push(w);
+                    n_spring = n;
+                }
+                let ratio = median(wall_locked.clone()) / median(wall_spring);
+                row += &format!(" {:>22}", format!("{ratio:.2} [{n_spring}]"));
+            }
+            let name = format!("{}, {integrator}", dirs.join(" "));
+            println!("{name:<34} {:>10.4}{row}   (locked: {n_locked} RHS)", median(wall_locked));
+        }
+    }
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -160,6 +208,20 @@ fn main() {
         let (_, file, dirs, duration, springs, settings) = cases[args[i + 1].parse::<usize>().expect("case index")];
         let s = variant(file, dirs, &args[i + 2], duration, springs, settings);
         println!("{:.3} µs/rhs", rhs_cost(&s, 3.0) * 1e6);
+        return;
+    }
+    if args.iter().any(|a| a == "--sweep") {
+        sweep(reps.min(3));
+        return;
+    }
+    // `-- --profile-run CASE_INDEX free|locked|stiff`: that case's whole run, three times.
+    if let Some(i) = args.iter().position(|a| a == "--profile-run") {
+        let (_, file, dirs, duration, springs, settings) = cases[args[i + 1].parse::<usize>().expect("case index")];
+        let s = variant(file, dirs, &args[i + 2], duration, springs, settings);
+        for _ in 0..3 {
+            let (wall, evals) = run(&s);
+            println!("{wall:.4} s, {evals} rhs");
+        }
         return;
     }
     for (name, file, dirs, duration, springs, settings) in cases {

@@ -332,6 +332,13 @@ impl<'m> Dynamics<'m> {
         });
     }
 
+    /// The parent and child bodies of the hinge whose law owns event function `index`: the
+    /// only bodies [`Self::event_value`] reads.
+    pub fn event_bodies(&self, index: usize) -> (usize, usize) {
+        let h = &self.model.hinges[self.event_offsets.partition_point(|&o| o <= index) - 1];
+        (h.parent, h.child)
+    }
+
     /// Event function `index` alone at `y`.
     pub fn event_value(&self, index: usize, y: &[f64]) -> f64 {
         let i = self.event_offsets.partition_point(|&o| o <= index) - 1;

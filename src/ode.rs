@@ -126,23 +126,31 @@ impl<'a> Step<'a> {
 
     /// The dense-output state at `t` in `[t_prev, t]`, written into `out`.
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.interpolate_range(t, 0..out.len(), out);
+    }
+
+    /// The components `range` of the dense-output state at `t` in `[t_prev, t]`, written
+    /// into `out[range]` (the rest of `out` is left as it is): for an event function that
+    /// reads two bodies of many.
+    pub fn interpolate_range(&self, t: f64, range: std::ops::Range<usize>, out: &mut [f64]) {
         let h = self.t - self.t_prev;
         let s = if h != 0.0 { (t - self.t_prev) / h } else { 1.0 };
         let s1 = 1.0 - s;
         let c = self.cont;
+        let out = &mut out[range.clone()];
         match self.kind {
             DenseKind::Hermite => {
-                for (i, o) in out.iter_mut().enumerate() {
+                for (i, o) in range.zip(out) {
                     *o = c[0][i] + s * (c[1][i] + s1 * (c[2][i] + s * c[3][i]));
                 }
             }
             DenseKind::Dopri5 => {
-                for (i, o) in out.iter_mut().enumerate() {
+                for (i, o) in range.zip(out) {
                     *o = c[0][i] + s * (c[1][i] + s1 * (c[2][i] + s * (c[3][i] + s1 * c[4][i])));
                 }
             }
             DenseKind::Dop853 => {
-                for (i, o) in out.iter_mut().enumerate() {
+                for (i, o) in range.zip(out) {
                     let conpar = c[4][i] + s * (c[5][i] + s1 * (c[6][i] + s * c[7][i]));
                     *o = c[0][i] + s * (c[1][i] + s1 * (c[2][i] + s * (c[3][i] + s1 * conpar)));
                 }

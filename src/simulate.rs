@@ -13,6 +13,7 @@ use crate::model::Model;
 use crate::observe::{Observation, Observer};
 use crate::ode::{Control, Method, OdeError, Step, integrate};
 use crate::sparse::GraphNewton;
+use crate::state::BODY_STATE_LEN;
 use std::time::Instant;
 use thiserror::Error;
 
@@ -310,12 +311,16 @@ impl StreamOut<'_, '_, '_, '_> {
         }
         self.dynamics.event_values(step.y, &mut self.g_end);
         let mut best: Option<(usize, f64)> = None;
-        let mut y = vec![0.0; step.y.len()];
+        let mut y = Vec::new();
         for k in 0..self.g_prev.len() {
             if !(self.g_prev[k] >= 0.0 && self.g_end[k] < 0.0) {
                 continue;
             }
-            // Illinois regula falsi on g(t) = event k at the dense-output state.
+            y.resize(step.y.len(), 0.0);
+            // Illinois regula falsi on g(t) = event k at the dense-output state (of the
+            // hinge's two bodies only: the rest of y is not read).
+            let (parent, child) = self.dynamics.event_bodies(k);
+            let body = |b: usize| BODY_STATE_LEN * b..BODY_STATE_LEN * (b + 1);
             let (mut a, mut ga) = (step.t_prev, self.g_prev[k]);
             let (mut b, mut gb) = (step.t, self.g_end[k]);
             let tol = 1e-13 * b.abs().max(1.0);
@@ -328,7 +333,8 @@ impl StreamOut<'_, '_, '_, '_> {
                 if !(c > a && c < b) {
                     c = 0.5 * (a + b);
                 }
-                step.interpolate(c, &mut y);
+                step.interpolate_range(c, body(parent), &mut y);
+                step.interpolate_range(c, body(child), &mut y);
                 let gc = self.dynamics.event_value(k, &y);
                 if gc < 0.0 {
                     b = c;

@@ -183,9 +183,10 @@ impl Direction {
         Self { response: Response::Linear { k }, rest: 0.0, damping: 0.0, stop: None }
     }
 
-    /// Restoring force, stored energy and dissipation power at coordinate q, rate qd;
-    /// `other` is the (coordinate − rest, rate) of a coupled direction, if any.
-    fn evaluate(&self, q: f64, qd: f64, m: &DirectionMemory, other: (f64, f64)) -> (f64, f64, f64) {
+    /// Restoring force, stored energy (with `energy`; else 0: the tables' integrals are not
+    /// needed for the motion) and dissipation power at coordinate q, rate qd; `other` is the
+    /// (coordinate − rest, rate) of a coupled direction, if any.
+    fn evaluate(&self, q: f64, qd: f64, m: &DirectionMemory, other: (f64, f64), energy: bool) -> (f64, f64, f64) {
         let u = q - self.rest;
         let (mut f, mut v, mut p) = match &self.response {
             Response::Free | Response::Locked => (0.0, 0.0, 0.0),
@@ -194,12 +195,12 @@ impl Direction {
                 (f, v, -dv * other.1)
             }
             Response::Linear { k } => (k * u, 0.5 * k * u * u, 0.0),
-            Response::Table(t) => (t.eval(u).0, t.integral(u), 0.0),
+            Response::Table(t) => (t.eval(u).0, if energy { t.integral(u) } else { 0.0 }, 0.0),
             Response::TapeSpring(ts) => {
                 let s = ts.slip(u, m.slip);
                 let k0 = ts.transition_stiffness;
                 let f = ts.decreasing.eval(u).0 + s;
-                let v = ts.decreasing.integral(u) + 0.5 * s * s / k0;
+                let v = if energy { ts.decreasing.integral(u) + 0.5 * s * s / k0 } else { 0.0 };
                 let p = if m.slip == SlipMode::Increasing {
                     let (gap, dgap) = ts.gap(u);
                     gap * (k0 - dgap) * qd / k0
@@ -329,14 +330,14 @@ impl DirectionalLaw {
         }
     }
 
-    /// Direction i's force, energy and dissipation power.
-    fn evaluate(&self, i: usize, q: &[f64; 6], qd: &[f64; 6], memory: &LawMemory) -> (f64, f64, f64) {
+    /// Direction i's force, energy (with `energy`, else 0) and dissipation power.
+    fn evaluate(&self, i: usize, q: &[f64; 6], qd: &[f64; 6], memory: &LawMemory, energy: bool) -> (f64, f64, f64) {
         let d = &self.directions[i];
         let other = match &d.response {
             Response::Table2(t) => (q[t.other] - self.directions[t.other].rest, qd[t.other]),
             _ => (0.0, 0.0),
         };
-        d.evaluate(q[i], qd[i], &memory.directions[i], other)
+        d.evaluate(q[i], qd[i], &memory.directions[i], other, energy)
     }
 }
 
@@ -350,7 +351,7 @@ impl HingeLaw for DirectionalLaw {
         let mut f = [0.0; 6];
         let mut p = 0.0;
         for (i, fi) in f.iter_mut().enumerate() {
-            let (force, _, power) = self.evaluate(i, &q, &qd, memory);
+            let (force, _, power) = self.evaluate(i, &q, &qd, memory, false);
             *fi = force;
             p += power;
         }
@@ -371,7 +372,7 @@ impl HingeLaw for DirectionalLaw {
                 _ => None,
             };
             let other = o.map_or(0.0, |o| q0[o] - self.directions[o].rest);
-            let (force, _, _) = self.evaluate(i, &q0, &qd0, memory);
+            let (force, _, _) = self.evaluate(i, &q0, &qd0, memory, false);
             let [dq, dqd, dv, dvd] = d.slopes(q0[i], &memory.directions[i], other);
             let mut v = real::<JacobianDual>(force) + (q[i] - q0[i]) * dq + (qd[i] - qd0[i]) * dqd;
             if let Some(o) = o {
@@ -384,12 +385,12 @@ impl HingeLaw for DirectionalLaw {
 
     fn stored_energy(&self, state: &HingeState, memory: &LawMemory) -> f64 {
         let (q, qd, _) = self.coordinates(state);
-        (0..6).map(|i| self.evaluate(i, &q, &qd, memory).1).sum()
+        (0..6).map(|i| self.evaluate(i, &q, &qd, memory, true).1).sum()
     }
 
     fn dissipation_power(&self, state: &HingeState, memory: &LawMemory) -> f64 {
         let (q, qd, _) = self.coordinates(state);
-        (0..6).map(|i| self.evaluate(i, &q, &qd, memory).2).sum()
+        (0..6).map(|i| self.evaluate(i, &q, &qd, memory, false).2).sum()
     }
 
     fn conserves_energy(&self) -> bool {

@@ -309,6 +309,17 @@ pub fn piece(knots: &[f64], q: f64) -> i64 {
     }
 }
 
+/// The piece of `knots` holding `q` for a memory that holds piece `current`: `current` while
+/// q lies within round-off (1e-9 relative) of its bounds, else [`piece`]. At a located
+/// crossing the state sits on the knot to within the step's local error, on either side;
+/// the crossing's event moves the piece, and a resync there must neither move it a second
+/// time nor move it back.
+pub fn synced_piece(knots: &[f64], current: i64, q: f64) -> i64 {
+    let (lo, hi) = piece_bounds(knots, current);
+    let tol = 1e-9 * (1.0 + q.abs());
+    if q >= lo - tol && q <= hi + tol { current } else { piece(knots, q) }
+}
+
 /// Bounds `[lo, hi)` of piece `p` of `knots` (see [`piece`]), infinite outside them.
 pub fn piece_bounds(knots: &[f64], p: i64) -> (f64, f64) {
     let n = knots.len() as i64;

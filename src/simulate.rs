@@ -189,6 +189,9 @@ struct StreamOut<'d, 'm, 's, 'p> {
     /// Event function values at the start of the current step.
     g_prev: Vec<f64>,
     g_end: Vec<f64>,
+    /// Per event function, how much it changed over the last accepted step: a function
+    /// nearer zero than that at both ends of a step may have dipped below it inside.
+    g_change: Vec<f64>,
     events: Vec<LawEvent>,
     branch_events: usize,
     /// Time of the last event and how many events happened at exactly that time.
@@ -305,6 +308,12 @@ impl StreamOut<'_, '_, '_, '_> {
 
     /// The earliest zero crossing of a law event function inside the step, if any:
     /// `(index, t*)` with t* just past the crossing (function already negative).
+    ///
+    /// A function negative at the step's end has crossed. One positive at both ends may
+    /// still have dipped below zero and back inside the step (a tape spring's brief slide in
+    /// a vibration, missed at one tolerance and found at the next, changes the rest of the
+    /// run): where it is nearer zero at either end than it changes over a step, it is also
+    /// sampled at three points inside the step.
     fn locate_event(&mut self, step: &Step<'_>) -> Option<(usize, f64)> {
         if self.g_prev.is_empty() || step.t == step.t_prev {
             return None;
@@ -312,17 +321,46 @@ impl StreamOut<'_, '_, '_, '_> {
         self.dynamics.event_values(step.y, &mut self.g_end);
         let mut best: Option<(usize, f64)> = None;
         let mut y = Vec::new();
+        let (t0, h) = (step.t_prev, step.t - step.t_prev);
         for k in 0..self.g_prev.len() {
-            if !(self.g_prev[k] >= 0.0 && self.g_end[k] < 0.0) {
+            let (g0, g1) = (self.g_prev[k], self.g_end[k]);
+            if g0.is_nan() || g0 < 0.0 {
+                continue;
+            }
+            let near = g1 >= 0.0 && g0.min(g1) < self.g_change[k].max((g1 - g0).abs());
+            if !(g1 < 0.0 || near) {
                 continue;
             }
             y.resize(step.y.len(), 0.0);
-            // Illinois regula falsi on g(t) = event k at the dense-output state (of the
-            // hinge's two bodies only: the rest of y is not read).
+            // The event function at time t of the dense output, from the hinge's two bodies
+            // only (the rest of y is not read).
             let (parent, child) = self.dynamics.event_bodies(k);
             let body = |b: usize| BODY_STATE_LEN * b..BODY_STATE_LEN * (b + 1);
-            let (mut a, mut ga) = (step.t_prev, self.g_prev[k]);
-            let (mut b, mut gb) = (step.t, self.g_end[k]);
+            let dynamics = self.dynamics;
+            let mut g_at = |t: f64| {
+                step.interpolate_range(t, body(parent), &mut y);
+                step.interpolate_range(t, body(child), &mut y);
+                dynamics.event_value(k, &y)
+            };
+            // A bracket [a, b] with g(a) ≥ 0 > g(b).
+            let (mut a, mut ga) = (t0, g0);
+            let (mut b, mut gb) = (step.t, g1);
+            if near {
+                let Some((ta, ga_, tb, gb_)) = [0.25, 0.5, 0.75].iter().find_map(|&f| {
+                    let t = t0 + f * h;
+                    let g = g_at(t);
+                    if g < 0.0 {
+                        Some((a, ga, t, g))
+                    } else {
+                        (a, ga) = (t, g);
+                        None
+                    }
+                }) else {
+                    continue;
+                };
+                (a, ga, b, gb) = (ta, ga_, tb, gb_);
+            }
+            // Illinois regula falsi on the bracket.
             let tol = 1e-13 * b.abs().max(1.0);
             let mut side = 0;
             for _ in 0..100 {
@@ -333,9 +371,7 @@ impl StreamOut<'_, '_, '_, '_> {
                 if !(c > a && c < b) {
                     c = 0.5 * (a + b);
                 }
-                step.interpolate_range(c, body(parent), &mut y);
-                step.interpolate_range(c, body(child), &mut y);
-                let gc = self.dynamics.event_value(k, &y);
+                let gc = g_at(c);
                 if gc < 0.0 {
                     b = c;
                     gb = gc;
@@ -428,6 +464,9 @@ impl StreamOut<'_, '_, '_, '_> {
         }
         self.emit_until(step, step.t, step.y)?;
         self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
+        for ((c, g0), g1) in self.g_change.iter_mut().zip(&self.g_prev).zip(&self.g_end) {
+            *c = (g1 - g0).abs();
+        }
         std::mem::swap(&mut self.g_prev, &mut self.g_end);
         if step.t == step.t_prev {
             self.dynamics.event_values(step.y, &mut self.g_prev);
@@ -490,6 +529,7 @@ pub fn simulate(
         buffer: Vec::new(),
         g_prev: vec![0.0; n_events],
         g_end: vec![0.0; n_events],
+        g_change: vec![0.0; n_events],
         events: Vec::new(),
         branch_events: 0,
         same_instant: (f64::NAN, 0),

@@ -284,3 +284,39 @@ fn exact_jacobian_matches_differences_for_every_law() {
         assert!(m <= 1e-8, "{file}: {m:e}");
     }
 }
+
+/// Events are found however briefly a switching function dips below zero inside a step: the
+/// z-fold example's latch times agree across tolerances. After the first latch the hub-side
+/// tape spring vibrates on its stop's recoil and, in one swing, slides on its loading branch
+/// for 0.6 ms and reverses; at the example's rtol 1e-10 that slide fell inside one step, was
+/// missed, and the later latches moved by 4e-5 s against rtol 1e-11. Now functions near zero
+/// are also sampled inside the step, and the latch times at rtol 1e-10 and 1e-11 agree to
+/// 3.5e-11 s (at rtol 1e-9 to 1e-9 s); the bound is 1e-7 s.
+#[test]
+fn latch_times_agree_across_tolerances() {
+    let latch_times = |tol: &str| {
+        let text = std::fs::read_to_string(repo("examples/zfold-tape-latch.toml")).unwrap();
+        let text: String = text
+            .lines()
+            .map(|l| match l.split('=').next().unwrap_or("").trim() {
+                "duration" => "duration = 12.0".to_string(),
+                "rtol" => format!("rtol = {tol}"),
+                "atol" => format!("atol = {tol}"),
+                _ => l.to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        let s = Scenario::from_toml_in(&text, "zfold-tape-latch", &repo("examples")).unwrap();
+        let (_, _, r) = run(&s);
+        let mut t: Vec<(usize, f64)> =
+            r.events.iter().filter(|e| e.kind == foldsim::law::EventKind::Latch).map(|e| (e.hinge, e.t)).collect();
+        t.sort_by_key(|e| e.0);
+        t
+    };
+    let (loose, tight) = (latch_times("1e-10"), latch_times("1e-11"));
+    assert_eq!(loose.len(), 4, "every hinge latches: {loose:?}");
+    assert_eq!(loose.iter().map(|e| e.0).collect::<Vec<_>>(), tight.iter().map(|e| e.0).collect::<Vec<_>>());
+    let worst = loose.iter().zip(&tight).map(|(a, b)| (a.1 - b.1).abs()).fold(0.0, f64::max);
+    eprintln!("latch times, rtol 1e-10 against 1e-11: {worst:e} s");
+    assert!(worst <= 1e-7, "latch times differ by {worst:e} s: {loose:?} vs {tight:?}");
+}

@@ -729,7 +729,7 @@ fn forest(structure: &[(usize, usize, usize, usize)], n_bodies: usize) -> Option
 
 /// Relative size, against the sum of the magnitudes of its terms, below which a row's
 /// acceleration residual `J a + γ` is round-off (a few ulps of the largest term).
-const IDLE_RESIDUAL: f64 = 16.0 * f64::EPSILON;
+pub const IDLE_RESIDUAL: f64 = 16.0 * f64::EPSILON;
 
 /// Corrects the free accelerations in the state derivative `dydt` (layout of
 /// [`crate::state`]: `R̈` in N components, `ω̇` in body components) so that every locked

@@ -47,6 +47,13 @@ pub trait ExactJacobian {
         Vec::new()
     }
 
+    /// Whether every lock is idle at `y`: the free accelerations satisfy the locks to
+    /// round-off, so the multipliers are zero (see
+    /// [`crate::constraints::constrain_accelerations`]).
+    fn locks_idle(&self, _y: &[f64]) -> bool {
+        false
+    }
+
     /// The locks at `y`, for a Newton matrix that carries them as rows: sends to `add` the
     /// blocks of the constraint wrenches' derivatives with the multipliers held
     /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the rows, grouped as [`Self::locked_hinges`]
@@ -157,6 +164,11 @@ impl ExactJacobian for Dynamics<'_> {
             .chunk_by(|a, b| a.hinge == b.hinge)
             .map(|g| (model.hinges[g[0].hinge].parent, model.hinges[g[0].hinge].child, g.len()))
             .collect()
+    }
+
+    fn locks_idle(&self, y: &[f64]) -> bool {
+        let (_, lambda) = self.rhs_and_multipliers(y);
+        !lambda.is_empty() && lambda.iter().all(|l| *l == 0.0)
     }
 
     fn constraint_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {

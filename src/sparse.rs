@@ -131,8 +131,15 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     p_rx: Vec<Vec7>,
     twist: Vec<Vec6>,
     /// Locked hinges (parent, child, locked directions) carried as constraint rows: node
-    /// `nb + g` of the elimination (see [`GraphNewton::new_exact`]). Empty otherwise.
+    /// `nb + g` of the elimination (see [`GraphNewton::new_exact`]). Empty otherwise, and
+    /// empty while every lock is idle (see [`ExactJacobian::locks_idle`]).
     groups: Vec<(usize, usize, usize)>,
+    /// All locked hinges, and the elimination order and positions with their nodes and
+    /// without them (idle locks leave the Newton matrix: their multipliers stay zero, and a
+    /// motion that keeps them idle never leaves their constraints).
+    lock_groups: Vec<(usize, usize, usize)>,
+    with_locks: (Vec<usize>, Vec<usize>),
+    without_locks: (Vec<usize>, Vec<usize>),
     /// The locks' rows at the last Jacobian, in the order of `groups`.
     group_rows: Vec<ConstraintRow>,
 }
@@ -186,17 +193,34 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             evaluations: 0,
             p_rx: Vec::new(),
             twist: Vec::new(),
-            groups,
+            groups: Vec::new(),
+            lock_groups: groups,
+            with_locks: (Vec::new(), Vec::new()),
+            without_locks: (Vec::new(), Vec::new()),
             group_rows: Vec::new(),
         };
         // With an exact Jacobian the locks are rows of the system (`groups`), and bodies couple
         // along hinges only.
-        if newton.groups.is_empty() {
+        if newton.lock_groups.is_empty() {
             newton.set_structure(&Self::differenced_coupling(model, edges));
         } else {
             newton.set_structure(&edges);
+            newton.without_locks = (newton.order.clone(), newton.position.clone());
+            newton.groups = newton.lock_groups.clone();
+            newton.set_structure(&edges);
+            newton.with_locks = (newton.order.clone(), newton.position.clone());
         }
         newton
+    }
+
+    /// Carries the locks as rows of the Newton matrix, or leaves them out.
+    fn carry_locks(&mut self, carry: bool) {
+        let (groups, (order, position)) = if carry {
+            (self.lock_groups.clone(), self.with_locks.clone())
+        } else {
+            (Vec::new(), self.without_locks.clone())
+        };
+        (self.groups, self.order, self.position) = (groups, order, position);
     }
 
     /// The body pairs a differenced Jacobian couples: the hinges, and every pair in a cluster
@@ -347,14 +371,19 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
                 jac_v[i][slot] += dv;
             };
             if source.acceleration_jacobian(y, &mut add) {
-                if !self.groups.is_empty() {
-                    self.group_rows = source.constraint_jacobian(y, &mut add);
+                self.group_rows.clear();
+                if !self.lock_groups.is_empty() {
+                    let idle = source.locks_idle(y);
+                    if !idle {
+                        self.group_rows = source.constraint_jacobian(y, &mut add);
+                    }
+                    self.carry_locks(!idle);
                 }
                 self.exact_count += 1;
                 return self.refactor(h_gamma);
             }
         }
-        if !self.groups.is_empty() {
+        if !self.lock_groups.is_empty() {
             // The structure carries the constraints as rows, which differences of the
             // constrained right-hand side do not fit (every law has a dual form).
             return false;
@@ -567,7 +596,23 @@ mod tests {
     /// scenario `s`'s initial state and `h_gamma`: (right-hand side, graph solution, largest
     /// difference in the body rows, largest dense solution entry there).
     fn graph_and_dense(s: &Scenario, h_gamma: f64, exact: bool) -> (Vec<f64>, Vec<f64>, f64, f64) {
-        let (y, refs) = initial_state(&s.model, &s.initial);
+        graph_and_dense_spinning(s, h_gamma, exact, [0.0; 3])
+    }
+
+    /// [`graph_and_dense`] with body 1 given an angular velocity `spin` (rad/s, body
+    /// components) at the start: about an axis out of a flat structure's plane and not
+    /// across its arms, the out-of-plane locks of a flat structure carry load (at rest, or
+    /// spinning about an in-plane axis across the arms, they are idle).
+    fn graph_and_dense_spinning(
+        s: &Scenario,
+        h_gamma: f64,
+        exact: bool,
+        spin: [f64; 3],
+    ) -> (Vec<f64>, Vec<f64>, f64, f64) {
+        let (mut y, refs) = initial_state(&s.model, &s.initial);
+        for (k, w) in spin.iter().enumerate() {
+            y[B + OMEGA + k] += w;
+        }
         let dynamics = Dynamics::new(&s.model, refs);
         dynamics.initialize_memory(&y);
         assert!(dynamics.check_locks(&y).is_ok());
@@ -626,8 +671,9 @@ mod tests {
     }
 
     /// Locks around loops (a 3×3 grid of panels, every hinge's z translation locked, the
-    /// rest stiff springs): the rows' solve against the dense differenced one, as above
-    /// (bound 2 hγ relative at hγ = 1e-4), and the locked rows of the correction.
+    /// rest stiff springs, one panel spinning so the locks carry load): the
+    /// rows' solve against the dense differenced one, as above (bound 2 hγ relative at
+    /// hγ = 1e-4), and the locked rows of the correction.
     #[test]
     fn constraint_rows_solve_on_loops() {
         use crate::generate::{Params, grid};
@@ -639,9 +685,27 @@ mod tests {
             .join("\n");
         let s = Scenario::from_toml(&text, "locked grid").unwrap();
         let h_gamma = 1e-4;
-        let (_, _, diff, scale) = graph_and_dense(&s, h_gamma, true);
+        let (_, _, diff, scale) = graph_and_dense_spinning(&s, h_gamma, true, [0.3, 0.0, 0.5]);
         eprintln!("locked grid, constraint rows vs dense: {diff:e} of {scale:e}");
         assert!(diff <= 2.0 * h_gamma * scale, "graph vs dense: {diff:e} of {scale:e}");
+    }
+
+    /// Idle locks leave the Newton matrix: the z-fold example with z locked, folded at rest
+    /// (in-plane moments, so the locks carry nothing), solves exactly as with z free — the
+    /// same matrix, no lock nodes — while the same structure with one panel spinning (loaded
+    /// locks) keeps its rows and differs. A lock wrongly judged idle is caught by the two
+    /// tests above, whose locks carry load.
+    #[test]
+    fn idle_locks_leave_the_newton_matrix() {
+        let locked = crate::scenario::example_with("zfold-tape-latch.toml", &["z"], "\"locked\"");
+        let free = crate::scenario::example_with("zfold-tape-latch.toml", &["z"], "\"free\"");
+        let (_, x_locked, _, _) = graph_and_dense(&locked, 0.05, true);
+        let (_, x_free, _, _) = graph_and_dense(&free, 0.05, true);
+        assert_eq!(x_locked, x_free, "idle locks changed the Newton solve");
+        let (_, x_rolling_locked, _, _) = graph_and_dense_spinning(&locked, 0.05, true, [0.3, 0.0, 0.5]);
+        let (_, x_rolling_free, _, _) = graph_and_dense_spinning(&free, 0.05, true, [0.3, 0.0, 0.5]);
+        let diff = x_rolling_locked.iter().zip(&x_rolling_free).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff > 1e-6, "loaded locks must stay in the Newton matrix: {diff:e}");
     }
 
     /// With locked directions the multipliers couple every body of a locked chain, not only

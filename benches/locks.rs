@@ -161,15 +161,9 @@ fn sweep(reps: usize) {
                 let translational = format!("k = {k:e}, damping = {:e}", 20.0 * (k / 2e5).sqrt());
                 let rotational = format!("k = {k_r:e}, damping = {:e}", 0.5 * (k_r / 2e3).sqrt());
                 let spring = variant(file, dirs, "stiff", 10.0, (&translational, &rotational), settings);
-                let (mut wall_spring, mut n_spring) = (Vec::new(), 0);
-                for _ in 0..reps {
-                    let (w, n) = run(&locked);
-                    wall_locked.push(w);
-                    n_locked = n;
-                    let (w, n) = run(&spring);
-                    wall_spring.push(w);
-                    n_spring = n;
-                }
+                let ((w_locked, n), (wall_spring, n_spring)) = alternate(&locked, &spring, reps);
+                wall_locked.extend(w_locked);
+                n_locked = n;
                 let ratio = median(wall_locked.clone()) / median(wall_spring);
                 row += &format!(" {:>22}", format!("{ratio:.2} [{n_spring}]"));
             }
@@ -177,6 +171,21 @@ fn sweep(reps: usize) {
             println!("{name:<34} {:>10.4}{row}   (locked: {n_locked} RHS)", median(wall_locked));
         }
     }
+}
+
+/// Wall times of `reps` whole runs of `a` and `b`, alternating (the machine's load drifts),
+/// and each one's RHS evaluations.
+fn alternate(a: &Scenario, b: &Scenario, reps: usize) -> ((Vec<f64>, u64), (Vec<f64>, u64)) {
+    let ((mut wall_a, mut n_a), (mut wall_b, mut n_b)) = ((Vec::new(), 0), (Vec::new(), 0));
+    for _ in 0..reps {
+        let (w, n) = run(a);
+        wall_a.push(w);
+        n_a = n;
+        let (w, n) = run(b);
+        wall_b.push(w);
+        n_b = n;
+    }
+    ((wall_a, n_a), (wall_b, n_b))
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -229,19 +238,12 @@ fn main() {
         let locked = variant(file, dirs, "locked", duration, springs, settings);
         let stiff = variant(file, dirs, "stiff", duration, springs, settings);
         let (mut cost_free, mut cost_locked) = (Vec::new(), Vec::new());
-        let (mut wall_free, mut wall_locked) = (Vec::new(), Vec::new());
-        let (mut n_free, mut n_locked) = (0, 0);
         let (cost_stiff, (wall_stiff, n_stiff)) = (rhs_cost(&stiff, budget), run(&stiff));
         for _ in 0..reps {
             cost_free.push(rhs_cost(&free, budget));
             cost_locked.push(rhs_cost(&locked, budget));
-            let (w, n) = run(&free);
-            wall_free.push(w);
-            n_free = n;
-            let (w, n) = run(&locked);
-            wall_locked.push(w);
-            n_locked = n;
         }
+        let ((wall_free, n_free), (wall_locked, n_locked)) = alternate(&free, &locked, reps);
         let (cf, cl) = (median(cost_free), median(cost_locked));
         let (wf, wl) = (median(wall_free), median(wall_locked));
         println!("{name:<34} {:>7} {:>12.3} {:>12} {n_free:>10} {wf:>12.4} {:>8}", "free", cf * 1e6, "", "");

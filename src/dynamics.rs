@@ -323,13 +323,16 @@ impl<'m> Dynamics<'m> {
         if self.event_count() == 0 {
             return;
         }
-        let mem = self.memories.borrow();
-        self.each_hinge(y, |i, k| {
+        let (mem, refs) = (self.memories.borrow(), self.theta_refs.borrow());
+        for (i, h) in self.model.hinges.iter().enumerate() {
             let (a, b) = (self.event_offsets[i], self.event_offsets[i + 1]);
+            // Only hinges whose laws have events: the others' kinematics are not needed.
             if b > a {
-                self.model.hinges[i].law.event_values(&k.state, &mem[i], &mut out[a..b]);
+                let (p, c) = (BodyMotion::from_state(y, h.parent), BodyMotion::from_state(y, h.child));
+                let k = hinge_kinematics(h, &p, &c, &refs[i]);
+                h.law.event_values(&k.state, &mem[i], &mut out[a..b]);
             }
-        });
+        }
     }
 
     /// The parent and child bodies of the hinge whose law owns event function `index`: the
@@ -346,8 +349,18 @@ impl<'m> Dynamics<'m> {
         let refs = self.theta_refs.borrow();
         let k =
             hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
-        let mut out = vec![0.0; h.law.event_count()];
-        h.law.event_values(&k.state, &self.memories.borrow()[i], &mut out);
+        // On the stack for the laws' usual counts (a directional law has 30): this runs at
+        // every iteration of an event's root search.
+        let count = h.law.event_count();
+        let mut small = [0.0; 32];
+        let mut large = Vec::new();
+        let out = if count <= small.len() {
+            &mut small[..count]
+        } else {
+            large.resize(count, 0.0);
+            &mut large[..]
+        };
+        h.law.event_values(&k.state, &self.memories.borrow()[i], out);
         out[index - self.event_offsets[i]]
     }
 

@@ -183,17 +183,23 @@ impl<'m> Dynamics<'m> {
         BODY_STATE_LEN * self.model.bodies.len() + h
     }
 
+    /// Kinematics of hinge `i` at state `y`, with angle references `refs`.
+    fn kinematics_at(&self, i: usize, y: &[f64], refs: &[Euler321]) -> HingeKinematics {
+        let h = &self.model.hinges[i];
+        hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i])
+    }
+
+    /// The hinge whose law owns event function `index`, and the index among its own.
+    fn event_owner(&self, index: usize) -> (usize, usize) {
+        let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
+        (i, index - self.event_offsets[i])
+    }
+
     /// Kinematics of every hinge at state `y`, with the current references.
     fn each_hinge<F: FnMut(usize, &HingeKinematics)>(&self, y: &[f64], mut f: F) {
         let refs = self.theta_refs.borrow();
-        for (i, h) in self.model.hinges.iter().enumerate() {
-            let k = hinge_kinematics(
-                h,
-                &BodyMotion::from_state(y, h.parent),
-                &BodyMotion::from_state(y, h.child),
-                &refs[i],
-            );
-            f(i, &k);
+        for i in 0..self.model.hinges.len() {
+            f(i, &self.kinematics_at(i, y, &refs));
         }
     }
 
@@ -328,9 +334,7 @@ impl<'m> Dynamics<'m> {
             let (a, b) = (self.event_offsets[i], self.event_offsets[i + 1]);
             // Only hinges whose laws have events: the others' kinematics are not needed.
             if b > a {
-                let (p, c) = (BodyMotion::from_state(y, h.parent), BodyMotion::from_state(y, h.child));
-                let k = hinge_kinematics(h, &p, &c, &refs[i]);
-                h.law.event_values(&k.state, &mem[i], &mut out[a..b]);
+                h.law.event_values(&self.kinematics_at(i, y, &refs).state, &mem[i], &mut out[a..b]);
             }
         }
     }
@@ -338,17 +342,15 @@ impl<'m> Dynamics<'m> {
     /// The parent and child bodies of the hinge whose law owns event function `index`: the
     /// only bodies [`Self::event_value`] reads.
     pub fn event_bodies(&self, index: usize) -> (usize, usize) {
-        let h = &self.model.hinges[self.event_offsets.partition_point(|&o| o <= index) - 1];
+        let h = &self.model.hinges[self.event_owner(index).0];
         (h.parent, h.child)
     }
 
     /// Event function `index` alone at `y`.
     pub fn event_value(&self, index: usize, y: &[f64]) -> f64 {
-        let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
+        let (i, own) = self.event_owner(index);
         let h = &self.model.hinges[i];
-        let refs = self.theta_refs.borrow();
-        let k =
-            hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+        let k = self.kinematics_at(i, y, &self.theta_refs.borrow());
         // On the stack for the laws' usual counts (a directional law has 30): this runs at
         // every iteration of an event's root search.
         let count = h.law.event_count();
@@ -361,18 +363,15 @@ impl<'m> Dynamics<'m> {
             &mut large[..]
         };
         h.law.event_values(&k.state, &self.memories.borrow()[i], out);
-        out[index - self.event_offsets[i]]
+        out[own]
     }
 
     /// Applies event function `index`'s change at state `y`, time `t`.
     pub fn apply_event(&self, index: usize, t: f64, y: &[f64]) -> LawEvent {
-        let i = self.event_offsets.partition_point(|&o| o <= index) - 1;
-        let h = &self.model.hinges[i];
-        let refs = self.theta_refs.borrow();
-        let k =
-            hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
+        let (i, own) = self.event_owner(index);
+        let k = self.kinematics_at(i, y, &self.theta_refs.borrow());
         let (kind, description) =
-            h.law.apply_event(index - self.event_offsets[i], &k.state, &mut self.memories.borrow_mut()[i]);
+            self.model.hinges[i].law.apply_event(own, &k.state, &mut self.memories.borrow_mut()[i]);
         LawEvent { t, hinge: i, kind, description, hinge_dissipated: y[self.dissipation_index(i)] }
     }
 
@@ -384,9 +383,7 @@ impl<'m> Dynamics<'m> {
         let mut refs = self.theta_refs.borrow_mut();
         let mut memories = self.memories.borrow_mut();
         for (i, h) in self.model.hinges.iter().enumerate() {
-            let p = BodyMotion::from_state(y, h.parent);
-            let c = BodyMotion::from_state(y, h.child);
-            let k = hinge_kinematics(h, &p, &c, &refs[i]);
+            let k = self.kinematics_at(i, y, &refs);
             if h.law.uses_euler_angles() {
                 if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
                     return Err(format!(

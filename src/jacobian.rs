@@ -47,17 +47,12 @@ pub trait ExactJacobian {
         Vec::new()
     }
 
-    /// Whether every lock is idle at `y`: the free accelerations satisfy the locks to
-    /// round-off, so the multipliers are zero (see
-    /// [`crate::constraints::constrain_accelerations`]).
-    fn locks_idle(&self, _y: &[f64]) -> bool {
-        false
-    }
-
     /// The locks at `y`, for a Newton matrix that carries them as rows: sends to `add` the
     /// blocks of the constraint wrenches' derivatives with the multipliers held
     /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the rows, grouped as [`Self::locked_hinges`]
-    /// lists them.
+    /// lists them. Returns no rows (and sends nothing) when every lock is idle there: the
+    /// free accelerations satisfy the locks to round-off and the multipliers are zero (see
+    /// [`crate::constraints::constrain_accelerations`]).
     fn constraint_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
         Vec::new()
     }
@@ -166,16 +161,14 @@ impl ExactJacobian for Dynamics<'_> {
             .collect()
     }
 
-    fn locks_idle(&self, y: &[f64]) -> bool {
-        let (_, lambda) = self.rhs_and_multipliers(y);
-        !lambda.is_empty() && lambda.iter().all(|l| *l == 0.0)
-    }
-
     fn constraint_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
         let model = self.model();
         let (dydt, mut lambda) = self.rhs_and_multipliers(y);
-        let refs = self.theta_refs();
         let locks = self.locks();
+        if !locks.is_empty() && lambda.len() == locks.len() && lambda.iter().all(|l| *l == 0.0) {
+            return Vec::new();
+        }
+        let refs = self.theta_refs();
         // A failed multiplier solve (locks momentarily redundant) leaves no multipliers: the
         // wrench derivatives are then left out (Newton still converges, more slowly).
         lambda.resize(locks.len(), 0.0);

@@ -273,11 +273,11 @@ impl StreamOut<'_, '_, '_, '_> {
     /// Emits every output row up to `t_end` (inclusive) from the step's dense output.
     fn emit_until(&mut self, step: &Step<'_>, t_end: f64, y_end: &[f64]) -> Result<(), SimError> {
         let tol = 1e-12 * t_end.abs().max(1.0);
+        let corrected = self.restore_every_step || self.dynamics.has_locks();
         while let Some(t_out) = self.output_times.peek() {
             if t_out > t_end + tol {
                 break;
             }
-            let corrected = self.restore_every_step || self.dynamics.has_locks();
             if (t_out - t_end).abs() <= tol && !corrected {
                 self.emit(t_out, y_end)?;
             } else {

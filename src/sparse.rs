@@ -132,7 +132,7 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     twist: Vec<Vec6>,
     /// Locked hinges (parent, child, locked directions) carried as constraint rows: node
     /// `nb + g` of the elimination (see [`GraphNewton::new_exact`]). Empty otherwise, and
-    /// empty while every lock is idle (see [`ExactJacobian::locks_idle`]).
+    /// empty while every lock is idle (see [`ExactJacobian::constraint_jacobian`]).
     groups: Vec<(usize, usize, usize)>,
     /// All locked hinges, and the elimination order and positions with their nodes and
     /// without them (idle locks leave the Newton matrix: their multipliers stay zero, and a
@@ -373,11 +373,9 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             if source.acceleration_jacobian(y, &mut add) {
                 self.group_rows.clear();
                 if !self.lock_groups.is_empty() {
-                    let idle = source.locks_idle(y);
-                    if !idle {
-                        self.group_rows = source.constraint_jacobian(y, &mut add);
-                    }
-                    self.carry_locks(!idle);
+                    // No rows: every lock idle (see `ExactJacobian::constraint_jacobian`).
+                    self.group_rows = source.constraint_jacobian(y, &mut add);
+                    self.carry_locks(!self.group_rows.is_empty());
                 }
                 self.exact_count += 1;
                 return self.refactor(h_gamma);

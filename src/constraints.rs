@@ -14,7 +14,7 @@
 //! hinge pair and factored within its envelope (no fill outside it), which for a chain of
 //! locked hinges is linear in their number.
 
-use crate::dynamics::{HingeKinematics, hinge_kinematics};
+use crate::dynamics::{HingeKinematics, hinge_kinematics, hinge_translation};
 use crate::math::{Euler321, EulerTrig, Real, Vec3, real};
 use crate::model::{Hinge, Model};
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
@@ -796,40 +796,51 @@ pub fn independent(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: 
 }
 
 /// Drift of a locked coordinate (m or rad) or of its rate (m/s or rad/s) beyond which
-/// [`project`] corrects the state. Well below the 1e-9 the locks promise, and rarely reached
+/// the state is projected ([`project`]) or a disengaged lock engaged. Well below the 1e-9 the locks promise, and rarely reached
 /// at tight tolerances, so the integration is seldom restarted.
 pub const DRIFT_LIMIT: f64 = 1e-11;
 
 /// Whether a locked coordinate or its rate has drifted beyond [`DRIFT_LIMIT`] at state `y`
-/// (checked after every step, so from the hinges' kinematics alone: no rows, no allocation).
-fn drifted(model: &Model, locks: &[Lock], refs: &[Euler321], y: &[f64]) -> bool {
-    locks.chunk_by(|a, b| a.hinge == b.hinge).any(|group| {
-        let i = group[0].hinge;
-        let h = &model.hinges[i];
-        let k =
-            hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i]);
-        let theta_rate = k.state.trig.rates_from_omega(&k.state.omega_rel_in_a);
-        group.iter().any(|lock| {
-            let (value, rate) = if lock.direction < 3 {
-                (k.state.delta_in_a0[lock.direction], k.state.delta_rate_in_a0[lock.direction])
-            } else {
-                let j = euler_index(lock.direction);
-                (k.state.theta.as_vector()[j], theta_rate[j])
-            };
-            (value - lock.target).abs() > DRIFT_LIMIT || rate.abs() > DRIFT_LIMIT
-        })
+/// (`locks` grouped by hinge).
+pub fn drifted(model: &Model, locks: &[Lock], refs: &[Euler321], y: &[f64]) -> bool {
+    locks.chunk_by(|a, b| a.hinge == b.hinge).any(|group| drift_mask(model, group, refs, y) != 0)
+}
+
+/// Which of `group`'s locks (all of one hinge, so at most six) have drifted beyond
+/// [`DRIFT_LIMIT`] in coordinate or rate at state `y`: bit k for `group[k]`. Checked after
+/// every step, so from the hinge's kinematics alone (no rows, no allocation), and without
+/// angles when only translations are locked.
+pub fn drift_mask(model: &Model, group: &[Lock], refs: &[Euler321], y: &[f64]) -> u8 {
+    let i = group[0].hinge;
+    let h = &model.hinges[i];
+    let (p, c) = (BodyMotion::from_state(y, h.parent), BodyMotion::from_state(y, h.child));
+    let mask = |beyond: &dyn Fn(&Lock) -> bool| {
+        group.iter().enumerate().fold(0u8, |m, (k, lock)| if beyond(lock) { m | (1 << k) } else { m })
+    };
+    let beyond =
+        |value: f64, lock: &Lock, rate: f64| (value - lock.target).abs() > DRIFT_LIMIT || rate.abs() > DRIFT_LIMIT;
+    if group.iter().all(|lock| lock.direction < 3) {
+        let t = hinge_translation(h, &p, &c);
+        return mask(&|l| beyond(t.delta_in_a0[l.direction], l, t.delta_rate_in_a0[l.direction]));
+    }
+    let k = hinge_kinematics(h, &p, &c, &refs[i]);
+    let theta_rate = k.state.trig.rates_from_omega(&k.state.omega_rel_in_a);
+    mask(&|l| {
+        if l.direction < 3 {
+            beyond(k.state.delta_in_a0[l.direction], l, k.state.delta_rate_in_a0[l.direction])
+        } else {
+            let j = euler_index(l.direction);
+            beyond(k.state.theta.as_vector()[j], l, theta_rate[j])
+        }
     })
 }
 
-/// Projects the state onto the constraint manifold if a locked coordinate or its rate has
-/// drifted beyond [`DRIFT_LIMIT`] (or always, with `force`): two mass-weighted Newton
-/// corrections of the poses, then one of the velocities. Returns whether `y` changed.
-pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64], force: bool) -> bool {
+/// Projects the state onto the constraint manifold of `locks`: two mass-weighted Newton
+/// corrections of the poses, then one of the velocities (the caller decides when, see
+/// [`drifted`]). Returns whether `y` changed.
+pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64]) -> bool {
     let nb = model.bodies.len();
     let motions = |y: &[f64]| (0..nb).map(|i| BodyMotion::from_state(y, i)).collect::<Vec<_>>();
-    if !force && !drifted(model, locks, refs, y) {
-        return false;
-    }
     let mut work = Workspace::default();
     for _ in 0..2 {
         let m = motions(y);

@@ -7,7 +7,7 @@
 //! eq. 14 and conserves linear and angular momentum for any law.
 
 use crate::constraints::{
-    Lock, Row, Workspace, constrain_accelerations, euler_index, hinge_rows, independent, project,
+    Lock, Row, Workspace, constrain_accelerations, drift_mask, drifted, euler_index, hinge_rows, independent, project,
 };
 use crate::law::{EventKind, HingeState, HingeWrench, LawMemory};
 use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, quat_rate, real};
@@ -32,6 +32,44 @@ pub struct HingeKinematics<T: nalgebra::Scalar = f64> {
     pub arm_child_in_n: Vector3<T>,
 }
 
+/// The translational part of a hinge's kinematics (see [`HingeKinematics`]).
+#[derive(Clone, Copy, Debug)]
+pub struct HingeTranslation<T: nalgebra::Scalar = f64> {
+    /// `[N A0]`.
+    pub dcm_n_a0: Matrix3<T>,
+    /// A's origin from the parent CoM, m, N components.
+    pub arm_parent_in_n: Vector3<T>,
+    /// A's origin from the child CoM, m, N components.
+    pub arm_child_in_n: Vector3<T>,
+    /// δ: A's origin from A0's, m, A0 components.
+    pub delta_in_a0: Vector3<T>,
+    /// The rate of δ's A0 components, m/s.
+    pub delta_rate_in_a0: Vector3<T>,
+}
+
+/// The translational part of hinge `h`'s relative state from the motions of its parent and
+/// child (MODEL.md §2): what [`hinge_kinematics`] computes before the rotation.
+#[inline]
+pub fn hinge_translation<T: Real>(h: &Hinge, parent: &BodyMotion<T>, child: &BodyMotion<T>) -> HingeTranslation<T> {
+    let dcm_n_a0 = parent.dcm_n_b * lift::<T>(&h.dcm_parent_a0);
+    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent.map(real::<T>);
+    let arm_child = child.dcm_n_b * h.r_a_in_child.map(real::<T>);
+    let r_a = child.r_in_n + arm_child;
+    let arm_parent = r_a - parent.r_in_n;
+    let delta_n = arm_parent - arm_a0;
+    let dcm_a0_n = dcm_n_a0.transpose();
+    // δ̇ = [A0 N](Ṙ_A − Ṙ_A0) − ω_p × δ, the rate of the A0 components.
+    let v_a0 = parent.v_in_n + parent.omega_in_n.cross(&arm_a0);
+    let v_a = child.v_in_n + child.omega_in_n.cross(&arm_child);
+    HingeTranslation {
+        dcm_n_a0,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: arm_child,
+        delta_in_a0: dcm_a0_n * delta_n,
+        delta_rate_in_a0: dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n)),
+    }
+}
+
 /// Relative state of hinge `h` from the motions of its parent and child (MODEL.md §2).
 ///
 /// The Euler angles are taken from `[A A0]` and moved by whole turns in yaw and roll to lie
@@ -43,21 +81,16 @@ pub fn hinge_kinematics<T: Real>(
     child: &BodyMotion<T>,
     theta_ref: &Euler321,
 ) -> HingeKinematics<T> {
-    let dcm_n_a0 = parent.dcm_n_b * lift::<T>(&h.dcm_parent_a0);
+    let HingeTranslation {
+        dcm_n_a0,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: arm_child,
+        delta_in_a0,
+        delta_rate_in_a0,
+    } = hinge_translation(h, parent, child);
     let dcm_n_a = child.dcm_n_b * lift::<T>(&h.dcm_child_a);
-    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent.map(real::<T>);
-    let arm_child = child.dcm_n_b * h.r_a_in_child.map(real::<T>);
-    let r_a = child.r_in_n + arm_child;
-    let arm_parent = r_a - parent.r_in_n;
-    let delta_n = arm_parent - arm_a0;
-    let dcm_a0_n = dcm_n_a0.transpose();
-    let delta_in_a0 = dcm_a0_n * delta_n;
     let dcm_a_a0 = dcm_n_a.transpose() * dcm_n_a0;
     let theta = Euler321::from_dcm(&dcm_a_a0).unwrapped_near(theta_ref);
-    // δ̇ = [A0 N](Ṙ_A − Ṙ_A0) − ω_p × δ, the rate of the A0 components.
-    let v_a0 = parent.v_in_n + parent.omega_in_n.cross(&arm_a0);
-    let v_a = child.v_in_n + child.omega_in_n.cross(&arm_child);
-    let delta_rate_in_a0 = dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n));
     let omega_rel_in_a = dcm_n_a.transpose() * (child.omega_in_n - parent.omega_in_n);
     HingeKinematics {
         state: HingeState {
@@ -101,9 +134,18 @@ pub struct Dynamics<'m> {
     locks: RefCell<Vec<Lock>>,
     /// Per hinge: its locks' index range in `locks` (empty if none).
     lock_ranges: RefCell<Vec<std::ops::Range<usize>>>,
+    /// Per lock (as in `locks`): whether it is engaged, that is solved for in the
+    /// right-hand side. A run starts with every lock disengaged and engages each once it
+    /// drifts (see [`Self::engage_drifted_locks`]): a lock that never carries load costs a
+    /// drift check per step and nothing per evaluation.
+    engaged: RefCell<Vec<bool>>,
+    /// The engaged locks (grouped by hinge in hinge order), and per hinge their range there.
+    active: RefCell<(Vec<Lock>, Vec<std::ops::Range<usize>>)>,
     event_offsets: Vec<usize>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
+    /// Of those, evaluations that solved for engaged locks (had constraint rows).
+    constrained_evaluations: Cell<u64>,
 }
 
 /// A discrete change of a hinge law's memory, located in time.
@@ -141,6 +183,8 @@ impl<'m> Dynamics<'m> {
             memories: RefCell::new(vec![LawMemory::default(); model.hinges.len()]),
             locks: RefCell::new(Vec::new()),
             lock_ranges: RefCell::new(vec![0..0; model.hinges.len()]),
+            engaged: RefCell::new(Vec::new()),
+            active: RefCell::new((Vec::new(), vec![0..0; model.hinges.len()])),
             event_offsets,
             scratch: RefCell::new(Scratch {
                 motions: vec![BodyMotion::default(); nb],
@@ -150,6 +194,7 @@ impl<'m> Dynamics<'m> {
                 work: Workspace::default(),
             }),
             evaluations: Cell::new(0),
+            constrained_evaluations: Cell::new(0),
         }
     }
 
@@ -161,6 +206,11 @@ impl<'m> Dynamics<'m> {
     /// Number of right-hand-side evaluations so far.
     pub fn evaluations(&self) -> u64 {
         self.evaluations.get()
+    }
+
+    /// Number of right-hand-side evaluations so far that had engaged locks to solve for.
+    pub fn constrained_evaluations(&self) -> u64 {
+        self.constrained_evaluations.get()
     }
 
     /// The hinges' current continuous-angle references.
@@ -204,7 +254,7 @@ impl<'m> Dynamics<'m> {
     }
 
     /// Sets every law's memory from the initial state, and holds every locked direction at
-    /// its value there.
+    /// its value there (every lock engaged).
     pub fn initialize_memory(&self, y: &[f64]) {
         let mut mem = vec![LawMemory::default(); self.model.hinges.len()];
         let mut locks = Vec::new();
@@ -220,8 +270,65 @@ impl<'m> Dynamics<'m> {
             ranges[i] = first..locks.len();
         });
         *self.memories.borrow_mut() = mem;
+        let n = locks.len();
         *self.locks.borrow_mut() = locks;
         *self.lock_ranges.borrow_mut() = ranges;
+        self.set_engaged(vec![true; n]);
+    }
+
+    /// Sets which locks are engaged, and the list of engaged locks from it.
+    fn set_engaged(&self, engaged: Vec<bool>) {
+        let locks = self.locks.borrow();
+        let mut active = self.active.borrow_mut();
+        let (list, ranges) = &mut *active;
+        list.clear();
+        ranges.iter_mut().for_each(|r| *r = 0..0);
+        for group in locks.chunk_by(|a, b| a.hinge == b.hinge) {
+            let first = list.len();
+            let offset = self.lock_ranges.borrow()[group[0].hinge].start;
+            list.extend(group.iter().enumerate().filter(|(k, _)| engaged[offset + k]).map(|(_, l)| *l));
+            ranges[group[0].hinge] = first..list.len();
+        }
+        *self.engaged.borrow_mut() = engaged;
+    }
+
+    /// Disengages every lock: the right-hand side then leaves the locked directions free
+    /// (they have no law) until [`Self::engage_drifted_locks`] engages them. A direction that
+    /// carries no load keeps its value without a constraint force, so a run that starts with
+    /// its locks disengaged and engages each once it drifts follows the locks at the cost of
+    /// a drift check per step.
+    pub fn disengage_locks(&self) {
+        let n = self.locks.borrow().len();
+        self.set_engaged(vec![false; n]);
+    }
+
+    /// Engages every disengaged lock whose coordinate or rate has drifted beyond
+    /// [`crate::constraints::DRIFT_LIMIT`] at `y`. Returns those locks (indices into
+    /// [`Self::locks`]).
+    pub fn engage_drifted_locks(&self, y: &[f64]) -> Vec<usize> {
+        let mut out = Vec::new();
+        {
+            let locks = self.locks.borrow();
+            let ranges = self.lock_ranges.borrow();
+            let refs = self.theta_refs.borrow();
+            let engaged = self.engaged.borrow();
+            for range in ranges.iter().filter(|r| engaged[(*r).clone()].contains(&false)) {
+                let moved = drift_mask(self.model, &locks[range.clone()], &refs, y);
+                out.extend(range.clone().filter(|&k| !engaged[k] && moved & (1 << (k - range.start)) != 0));
+            }
+        }
+        if !out.is_empty() {
+            let mut engaged = self.engaged.borrow().clone();
+            out.iter().for_each(|&k| engaged[k] = true);
+            self.set_engaged(engaged);
+        }
+        out
+    }
+
+    /// Per lock (as in [`Self::locks`]): whether it is engaged (see
+    /// [`Self::disengage_locks`]).
+    pub fn engaged_locks(&self) -> std::cell::Ref<'_, Vec<bool>> {
+        self.engaged.borrow()
     }
 
     /// Total linear momentum (kg·m/s) and angular momentum about N's origin (kg·m²/s), N
@@ -308,14 +415,20 @@ impl<'m> Dynamics<'m> {
     }
 
     /// Projects `y` onto the locked directions' constraints (positions, then velocities)
-    /// if they have drifted (see [`crate::constraints::project`]), or always with `force`.
-    /// Returns whether `y` changed.
+    /// if an engaged one has drifted (see [`crate::constraints::project`]), or always
+    /// with `force`. Disengaged locks are not checked: a drift of theirs engages them
+    /// instead ([`Self::engage_drifted_locks`], after every step). Returns whether `y`
+    /// changed.
     pub fn project(&self, y: &mut [f64], force: bool) -> bool {
         let locks = self.locks.borrow();
         if locks.is_empty() {
             return false;
         }
-        project(self.model, &locks, &self.theta_refs.borrow(), y, force)
+        let refs = self.theta_refs.borrow();
+        if !force && !drifted(self.model, &self.active.borrow().0, &refs, y) {
+            return false;
+        }
+        project(self.model, &locks, &refs, y)
     }
 
     /// Total number of event functions over all hinges.
@@ -418,8 +531,8 @@ impl<'m> Dynamics<'m> {
         let memories = self.memories.borrow();
         let mut scratch = self.scratch.borrow_mut();
         let Scratch { motions, force_in_n, torque_in_n, rows, work } = &mut *scratch;
-        let locks = self.locks.borrow();
-        let lock_ranges = self.lock_ranges.borrow();
+        let active = self.active.borrow();
+        let (locks, lock_ranges) = &*active;
         for (i, m) in motions.iter_mut().enumerate() {
             *m = BodyMotion::from_state(y, i);
         }
@@ -462,6 +575,7 @@ impl<'m> Dynamics<'m> {
             d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
         }
         if !rows.is_empty() {
+            self.constrained_evaluations.set(self.constrained_evaluations.get() + 1);
             // Locked directions: the constraint correction (crate::constraints). A singular
             // system (redundant locks) is refused when the run starts.
             let _ = constrain_accelerations(model, rows, motions, dydt, work);
@@ -471,11 +585,19 @@ impl<'m> Dynamics<'m> {
 
 impl Dynamics<'_> {
     /// The state derivative at `y` and the locks' multipliers there (one per lock, in the
-    /// order of [`Self::locks`]; the constraint wrench is `Jᵀ λ`).
+    /// order of [`Self::locks`]; the constraint wrench is `Jᵀ λ`; zero for disengaged locks).
     pub fn rhs_and_multipliers(&self, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let mut dydt = vec![0.0; y.len()];
         self.rhs(y, &mut dydt);
-        let lambda = if self.has_locks() { self.scratch.borrow().work.multipliers().to_vec() } else { Vec::new() };
+        let engaged = self.engaged.borrow();
+        let scratch = self.scratch.borrow();
+        // The solve's multipliers are the engaged locks', in order (none when no lock is
+        // engaged: then they are left from an earlier evaluation; and none after a failed
+        // solve).
+        let mut solved = scratch.work.multipliers().iter();
+        let any = engaged.iter().any(|e| *e);
+        let lambda =
+            engaged.iter().map(|&e| if e && any { solved.next().copied().unwrap_or(0.0) } else { 0.0 }).collect();
         (dydt, lambda)
     }
 }

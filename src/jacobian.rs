@@ -16,7 +16,7 @@
 //! ([`ExactJacobian::constraint_jacobian`], see [`crate::sparse`]). A law without a dual form
 //! makes the caller fall back to finite differences.
 
-use crate::constraints::hinge_rows;
+use crate::constraints::{Lock, hinge_rows};
 use crate::dynamics::{Dynamics, hinge_kinematics};
 use crate::law::JacobianDual as D;
 use crate::math::{lift, re, real};
@@ -49,13 +49,22 @@ pub trait ExactJacobian {
 
     /// The locks at `y`, for a Newton matrix that carries them as rows: sends to `add` the
     /// blocks of the constraint wrenches' derivatives with the multipliers held
-    /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the rows, grouped as [`Self::locked_hinges`]
-    /// lists them. Returns no rows (and sends nothing) when every lock is idle there: the
-    /// free accelerations satisfy the locks to round-off and the multipliers are zero (see
-    /// [`crate::constraints::constrain_accelerations`]).
-    fn constraint_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
-        Vec::new()
+    /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the engaged locks' rows (see
+    /// [`crate::dynamics::Dynamics::disengage_locks`]). Returns no rows (and sends nothing)
+    /// when every lock is idle there: the free accelerations satisfy the locks to round-off
+    /// and the multipliers are zero (see [`crate::constraints::constrain_accelerations`]).
+    fn constraint_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> LockRows {
+        LockRows::default()
     }
+}
+
+/// The locks a Newton matrix carries at a state.
+#[derive(Clone, Debug, Default)]
+pub struct LockRows {
+    /// The hinges carried, in hinge order, as (parent body, child body, number of rows).
+    pub groups: Vec<(usize, usize, usize)>,
+    /// Their rows, grouped by hinge in that order.
+    pub rows: Vec<ConstraintRow>,
 }
 
 /// One lock's row for the Newton matrix, per side (0: the hinge's parent, 1: its child), in
@@ -161,17 +170,25 @@ impl ExactJacobian for Dynamics<'_> {
             .collect()
     }
 
-    fn constraint_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> Vec<ConstraintRow> {
+    fn constraint_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> LockRows {
         let model = self.model();
-        let (dydt, mut lambda) = self.rhs_and_multipliers(y);
+        // Disengaged locks have zero multipliers, as has a failed multiplier solve (locks
+        // momentarily redundant): the wrench derivatives are then left out (Newton still
+        // converges, more slowly).
+        let (dydt, lambda) = self.rhs_and_multipliers(y);
         let locks = self.locks();
-        if !locks.is_empty() && lambda.len() == locks.len() && lambda.iter().all(|l| *l == 0.0) {
-            return Vec::new();
+        if lambda.iter().all(|l| *l == 0.0) {
+            return LockRows::default();
         }
         let refs = self.theta_refs();
-        // A failed multiplier solve (locks momentarily redundant) leaves no multipliers: the
-        // wrench derivatives are then left out (Newton still converges, more slowly).
-        lambda.resize(locks.len(), 0.0);
+        // The engaged locks, with their multipliers, grouped by hinge.
+        let engaged: Vec<(Lock, f64)> = locks
+            .iter()
+            .zip(self.engaged_locks().iter())
+            .zip(&lambda)
+            .filter(|((_, e), _)| **e)
+            .map(|((l, _), m)| (*l, *m))
+            .collect();
         let body = |i: usize| &y[B * i..B * (i + 1)];
         let accel = |i: usize| -> [f64; 6] {
             let o = B * i;
@@ -184,20 +201,22 @@ impl ExactJacobian for Dynamics<'_> {
                 dydt[o + OMEGA + 2],
             ]
         };
-        let mut out = Vec::with_capacity(locks.len());
-        for group in locks.chunk_by(|a, b| a.hinge == b.hinge) {
+        let mut out = LockRows::default();
+        for engaged_group in engaged.chunk_by(|a, b| a.0.hinge == b.0.hinge) {
+            let group: Vec<Lock> = engaged_group.iter().map(|(l, _)| *l).collect();
+            let lam: Vec<f64> = engaged_group.iter().map(|(_, m)| *m).collect();
             let hinge = group[0].hinge;
             let h = &model.hinges[hinge];
             let p = BodyMotion::<D>::from_body_state(&seeded(body(h.parent), 0));
             let c = BodyMotion::<D>::from_body_state(&seeded(body(h.child), B));
             let k = hinge_kinematics(h, &p, &c, &refs[hinge]);
             let mut rows = Vec::with_capacity(group.len());
-            hinge_rows(h, group, &p, &c, &k, &mut rows);
-            let lam = &lambda[out.len()..out.len() + group.len()];
+            hinge_rows(h, &group, &p, &c, &k, &mut rows);
+            out.groups.push((h.parent, h.child, group.len()));
             // The constraint wrench Jᵀλ with λ held, as accelerations (ω̇ in the body's own,
             // seeded, attitude).
             let mut wrench = [(Vector3::<D>::zeros(), Vector3::<D>::zeros()); 2];
-            for (r, &l) in rows.iter().zip(lam) {
+            for (r, &l) in rows.iter().zip(&lam) {
                 let l = D::from_re(l);
                 wrench[0].0 += r.lin_p * l;
                 wrench[0].1 += r.ang_p * l;
@@ -239,7 +258,7 @@ impl ExactJacobian for Dynamics<'_> {
                         row.d_twist[side][k] = g[13 * side + 7 + k];
                     }
                 }
-                out.push(row);
+                out.rows.push(row);
             }
         }
         out

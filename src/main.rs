@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use foldsim::law::EventKind;
+use foldsim::law::directional::DIRECTION_NAMES;
 use foldsim::output::CsvSink;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};
@@ -217,7 +218,11 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     println!("  simulated time   {:.6} s", r.simulated);
     println!("  wall time        {:.3} s", r.wall_seconds);
     println!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
-    println!("  rhs evaluations  {}", r.rhs_evaluations);
+    if r.drift.locks > 0 {
+        println!("  rhs evaluations  {} ({} solving for engaged locks)", r.rhs_evaluations, r.constrained_evaluations);
+    } else {
+        println!("  rhs evaluations  {}", r.rhs_evaluations);
+    }
     if r.jacobians > 0 {
         let how = if r.differenced_jacobians > 0 {
             "by finite differences: a hinge law without a dual form"
@@ -249,6 +254,30 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             "    locked directions   {} held within {:.3e} m and {:.3e} rad of their initial values",
             d.locks, d.locked_translation, d.locked_rotation
         );
+        // Engaged locks, a hinge's at one instant on one line: "h1 x, y, rz at t = 0.1 s".
+        let engaged: Vec<String> = r
+            .lock_engagements
+            .chunk_by(|a, b| a.0.hinge == b.0.hinge && a.1 == b.1)
+            .map(|g| {
+                let dirs: Vec<&str> = g.iter().map(|(l, _)| DIRECTION_NAMES[l.direction]).collect();
+                format!("{} {} at t = {:.6} s", scenario.model.hinges[g[0].0.hinge].name, dirs.join(", "), g[0].1)
+            })
+            .collect();
+        let (n, all) = (r.lock_engagements.len(), d.locks);
+        let rest = if n < all {
+            format!("; the other {} carried none and were never solved for", all - n)
+        } else {
+            String::new()
+        };
+        if n == 0 {
+            println!("    locks engaged       none of {all}: no lock carried load, none was solved for");
+        } else {
+            let more = if engaged.len() > 4 { format!("; and {} more", engaged.len() - 4) } else { String::new() };
+            println!(
+                "    locks engaged       {n} of {all} (carrying load{rest}): {}{more}",
+                engaged[..engaged.len().min(4)].join("; ")
+            );
+        }
     }
     let e_rel = rel(d.energy, d.energy_initial.abs());
     let scale = d.energy_initial.abs().max(d.dissipated.abs());

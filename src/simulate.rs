@@ -141,6 +141,13 @@ pub struct RunReport {
     pub branch_events: usize,
     /// Per hinge: energy dissipated over the run, J.
     pub hinge_dissipated: Vec<f64>,
+    /// Of `rhs_evaluations`, those that solved for engaged locks.
+    pub constrained_evaluations: u64,
+    /// Locks that engaged (carried load), with the time from which they were solved for
+    /// (s), in time order. A run starts with every lock disengaged: a locked direction with
+    /// no load keeps its value without a constraint force, and is checked after every step;
+    /// once it drifts, it engages and the step is retaken with it.
+    pub lock_engagements: Vec<(crate::constraints::Lock, f64)>,
 }
 
 /// Why a run stopped early.
@@ -194,6 +201,7 @@ struct StreamOut<'d, 'm, 's, 'p> {
     g_change: Vec<f64>,
     events: Vec<LawEvent>,
     branch_events: usize,
+    lock_engagements: Vec<(crate::constraints::Lock, f64)>,
     /// Time of the last event and how many events happened at exactly that time.
     same_instant: (f64, usize),
     /// An event located inside the last step, which the integrator is retaking to end there.
@@ -429,6 +437,17 @@ impl StreamOut<'_, '_, '_, '_> {
     /// law's memory changes and the integration restarts there.
     fn on_step(&mut self, step: &Step<'_>) -> Result<Control, SimError> {
         let tiny = 1e-12 * step.t.abs().max(1.0);
+        let engaged = if step.t > step.t_prev { self.dynamics.engage_drifted_locks(step.y) } else { Vec::new() };
+        if !engaged.is_empty() {
+            // Locks that drifted over the step carry load from now on: they are engaged and
+            // the step is retaken with them (an event it straddled is found again).
+            let locks = self.dynamics.locks();
+            self.lock_engagements.extend(engaged.into_iter().map(|k| (locks[k], step.t_prev)));
+            self.pending = None;
+            let mut y = vec![0.0; step.y.len()];
+            step.interpolate(step.t_prev, &mut y);
+            return Ok(Control::Restart { t: step.t_prev, y });
+        }
         let pending = self.pending.take();
         let event = match pending {
             // The retaken step ends at the located root (to round-off): the event happens here.
@@ -513,6 +532,8 @@ pub fn simulate(
     dynamics.check_locks(&y0).map_err(SimError::Physics)?;
     // Initial rates along locked directions are removed (positions hold by construction).
     dynamics.project(&mut y0, true);
+    // Locks are solved for only once they carry load (see `Dynamics::disengage_locks`).
+    dynamics.disengage_locks();
     let n_events = dynamics.event_count();
     let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
     let mut out = StreamOut {
@@ -532,6 +553,7 @@ pub fn simulate(
         g_change: vec![0.0; n_events],
         events: Vec::new(),
         branch_events: 0,
+        lock_engagements: Vec::new(),
         same_instant: (f64::NAN, 0),
         pending: None,
         // The implicit method conserves momentum only to its tolerance, and the projection
@@ -588,6 +610,8 @@ pub fn simulate(
         drift: Drift { locks: dynamics.locks().len(), ..out.drift },
         energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy()),
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
+        constrained_evaluations: dynamics.constrained_evaluations(),
+        lock_engagements: out.lock_engagements,
         events: out.events,
         branch_events: out.branch_events,
         stiff_from: stats.stiff_from,

@@ -134,12 +134,16 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     /// `nb + g` of the elimination (see [`GraphNewton::new_exact`]). Empty otherwise, and
     /// empty while every lock is idle (see [`ExactJacobian::constraint_jacobian`]).
     groups: Vec<(usize, usize, usize)>,
-    /// All locked hinges, and the elimination order and positions with their nodes and
-    /// without them (idle locks leave the Newton matrix: their multipliers stay zero, and a
-    /// motion that keeps them idle never leaves their constraints).
+    /// All locked hinges; the elimination order and positions with the nodes of the locks
+    /// last carried (`carried`, as `groups`) and without any (idle or disengaged locks leave
+    /// the Newton matrix: their multipliers are zero, and a motion that keeps them idle
+    /// never leaves their constraints).
     lock_groups: Vec<(usize, usize, usize)>,
+    carried: Vec<(usize, usize, usize)>,
     with_locks: (Vec<usize>, Vec<usize>),
     without_locks: (Vec<usize>, Vec<usize>),
+    /// The hinges' body pairs.
+    edges: Vec<(usize, usize)>,
     /// The locks' rows at the last Jacobian, in the order of `groups`.
     group_rows: Vec<ConstraintRow>,
 }
@@ -195,9 +199,11 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             twist: Vec::new(),
             groups: Vec::new(),
             lock_groups: groups,
+            carried: Vec::new(),
             with_locks: (Vec::new(), Vec::new()),
             without_locks: (Vec::new(), Vec::new()),
             group_rows: Vec::new(),
+            edges: edges.clone(),
         };
         // With an exact Jacobian the locks are rows of the system (`groups`), and bodies couple
         // along hinges only.
@@ -206,21 +212,33 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         } else {
             newton.set_structure(&edges);
             newton.without_locks = (newton.order.clone(), newton.position.clone());
-            newton.groups = newton.lock_groups.clone();
-            newton.set_structure(&edges);
-            newton.with_locks = (newton.order.clone(), newton.position.clone());
         }
         newton
     }
 
-    /// Carries the locks as rows of the Newton matrix, or leaves them out.
-    fn carry_locks(&mut self, carry: bool) {
-        let (groups, (order, position)) = if carry {
-            (self.lock_groups.clone(), self.with_locks.clone())
-        } else {
-            (Vec::new(), self.without_locks.clone())
-        };
-        (self.groups, self.order, self.position) = (groups, order, position);
+    /// Carries the locks `carried` (per hinge, in hinge order: parent, child, number of rows)
+    /// as rows of the Newton matrix. The elimination order with them is kept for the next
+    /// Jacobian: the carried set changes only when locks engage, or all fall idle or wake
+    /// at once.
+    fn carry_locks(&mut self, carried: Vec<(usize, usize, usize)>) {
+        if carried.is_empty() {
+            self.groups.clear();
+            (self.order, self.position) = self.without_locks.clone();
+            return;
+        }
+        if carried != self.carried {
+            // Same pairs, so the same neighbourhoods: the blocks already formed are kept.
+            let (jac_x, jac_v) = (std::mem::take(&mut self.jac_x), std::mem::take(&mut self.jac_v));
+            self.groups = carried.clone();
+            let edges = std::mem::take(&mut self.edges);
+            self.set_structure(&edges);
+            self.edges = edges;
+            (self.jac_x, self.jac_v) = (jac_x, jac_v);
+            self.with_locks = (self.order.clone(), self.position.clone());
+            self.carried = carried;
+        }
+        self.groups.clone_from(&self.carried);
+        (self.order, self.position) = self.with_locks.clone();
     }
 
     /// The body pairs a differenced Jacobian couples: the hinges, and every pair in a cluster
@@ -373,9 +391,11 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             if source.acceleration_jacobian(y, &mut add) {
                 self.group_rows.clear();
                 if !self.lock_groups.is_empty() {
-                    // No rows: every lock idle (see `ExactJacobian::constraint_jacobian`).
-                    self.group_rows = source.constraint_jacobian(y, &mut add);
-                    self.carry_locks(!self.group_rows.is_empty());
+                    // No rows: every lock idle or disengaged (see
+                    // `ExactJacobian::constraint_jacobian`).
+                    let locks = source.constraint_jacobian(y, &mut add);
+                    self.group_rows = locks.rows;
+                    self.carry_locks(locks.groups);
                 }
                 self.exact_count += 1;
                 return self.refactor(h_gamma);
@@ -607,12 +627,25 @@ mod tests {
         exact: bool,
         spin: [f64; 3],
     ) -> (Vec<f64>, Vec<f64>, f64, f64) {
+        graph_and_dense_with(s, h_gamma, exact, &|y, _| {
+            for (k, w) in spin.iter().enumerate() {
+                y[B + OMEGA + k] += w;
+            }
+        })
+    }
+
+    /// [`graph_and_dense`] at the initial state as `setup` changes it (and the dynamics,
+    /// whose memory is set at the initial state first).
+    fn graph_and_dense_with(
+        s: &Scenario,
+        h_gamma: f64,
+        exact: bool,
+        setup: &dyn Fn(&mut Vec<f64>, &Dynamics),
+    ) -> (Vec<f64>, Vec<f64>, f64, f64) {
         let (mut y, refs) = initial_state(&s.model, &s.initial);
-        for (k, w) in spin.iter().enumerate() {
-            y[B + OMEGA + k] += w;
-        }
         let dynamics = Dynamics::new(&s.model, refs);
         dynamics.initialize_memory(&y);
+        setup(&mut y, &dynamics);
         assert!(dynamics.check_locks(&y).is_ok());
         let mut f = vec![0.0; y.len()];
         crate::ode::OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
@@ -704,6 +737,39 @@ mod tests {
         let (_, x_rolling_free, _, _) = graph_and_dense_spinning(&free, 0.05, true, [0.3, 0.0, 0.5]);
         let diff = x_rolling_locked.iter().zip(&x_rolling_free).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!(diff > 1e-6, "loaded locks must stay in the Newton matrix: {diff:e}");
+    }
+
+    /// Some hinges' locks engaged, the others not (a run engages each hinge's locks once they
+    /// drift): the Newton matrix carries the engaged hinges' rows only and matches the dense
+    /// solve of the same right-hand side, as in `constraint_rows_solve_matches_dense_solve`
+    /// (bound 1e-5 relative). The z-fold example with its five off-axis directions locked,
+    /// every lock disengaged, then the second panel moved 1 µm along N's x: three in-plane
+    /// translation locks of the two hinges at that panel drift and engage (they carry the
+    /// folded panels' spring loads, so their rows stay in the matrix), the other 17 stay
+    /// disengaged (the solve then differs from the all-engaged one). Idle engaged locks
+    /// leave the matrix, which the dense differences cannot follow (see
+    /// `idle_locks_leave_the_newton_matrix`).
+    #[test]
+    fn partly_engaged_locks_solve_matches_dense_solve() {
+        let s = crate::scenario::example_with("zfold-tape-latch.toml", &["x", "y", "z", "rx", "ry"], "\"locked\"");
+        let moved = |y: &mut Vec<f64>| y[2 * B] += 1e-6;
+        let (_, x_part, diff, scale) = graph_and_dense_with(&s, 0.05, true, &|y, dynamics| {
+            moved(y);
+            dynamics.disengage_locks();
+            let engaged: Vec<(usize, usize)> = dynamics
+                .engage_drifted_locks(y)
+                .iter()
+                .map(|&k| (dynamics.locks()[k].hinge, dynamics.locks()[k].direction))
+                .collect();
+            // In-plane translations of the two hinges at the panel (h2's A0 is on the first
+            // panel, turned 90° by h1's fold: its x axis is across N's x).
+            assert_eq!(engaged, [(1, 1), (2, 0), (2, 1)], "in-plane translations at the panel");
+        });
+        eprintln!("partly engaged: constraint rows vs dense: {diff:e} of {scale:e}");
+        assert!(diff <= 1e-5 * scale, "graph vs dense: {diff:e} of {scale:e}");
+        let (_, x_all, _, _) = graph_and_dense_with(&s, 0.05, true, &|y, _| moved(y));
+        let change = x_part.iter().zip(&x_all).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(change > 1e-6 * scale, "disengaged locks must leave the matrix: {change:e}");
     }
 
     /// With locked directions the multipliers couple every body of a locked chain, not only

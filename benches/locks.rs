@@ -6,16 +6,22 @@
 //!   and all three out-of-plane directions (z, rx, ry) locked vs free. The deployment is
 //!   planar, so both variants follow the same motion.
 //! - `examples/hinged-panels-1dof.toml`, 300 s: five directions locked vs free (free, the
-//!   panels drift apart: a different motion, reported for completeness).
+//!   panels drift apart: a different motion, reported for completeness; locked, x and y
+//!   carry the load and z, rx, ry none).
 //! - the z-fold example with its five off-axis directions at the stiffness DESIGN.md calls
 //!   normal for real hinges (1e7 N/m, 1e5 N·m/rad), rtol = atol = 1e-8, with DOP853 and
 //!   with SDIRK4 (free, the panels drift apart).
+//! - the z-fold example with x and y locked in every variant (loaded locks), and z, rx, ry
+//!   locked or free, under DOP853 and SDIRK4 (rtol = atol = 1e-8).
 //!
-//! For each: the cost of one right-hand-side evaluation at the initial state, and the
-//! whole run's wall time (median of alternating repetitions), with the RHS count; ratios
-//! are to the free variant. A third variant, `stiff`, replaces the lock by the spring a
-//! user would otherwise model a rigid direction with (the z-fold example's own off-axis
-//! springs, 2e5 N/m and 2e3 N·m/rad, damped; or the stiffer ones of the last cases; one run).
+//! For each: the cost of one right-hand-side evaluation at the initial state with every
+//! lock engaged (solved for: the most a lock can cost per evaluation), and the whole run's
+//! wall time (median of alternating repetitions), with the RHS count and the locks that
+//! engaged over the run (a run solves for a lock only once it carries load: see
+//! `Dynamics::disengage_locks`); ratios are to the free variant's wall time. A third
+//! variant, `stiff`, replaces the lock by the spring a user would otherwise model a rigid
+//! direction with (the z-fold example's own off-axis springs, 2e5 N/m and 2e3 N·m/rad,
+//! damped; or the stiffer ones of the last cases; one run).
 //!
 //! Then the scaling of the lock solve with a hub holding N panels on hinges locked in five
 //! directions (every lock row couples through the hub: `J M⁻¹ Jᵀ` is dense, so the solve
@@ -44,11 +50,13 @@ fn load() -> String {
 const EXAMPLE_SPRINGS: (&str, &str) = ("k = 2e5, damping = 20.0", "k = 2e3, damping = 0.5");
 const DESIGN_SPRINGS: (&str, &str) = ("k = 1e7, damping = 100.0", "k = 1e5, damping = 5.0");
 
-/// One bench case: name, example file, directions changed, duration (s), springs of the
-/// `stiff` variant, and other `[run]` settings replaced (key, value).
+/// One bench case: name, example file, directions changed, directions locked in every
+/// variant, duration (s), springs of the `stiff` variant, and other `[run]` settings
+/// replaced (key, value).
 type Case = (
     &'static str,
     &'static str,
+    &'static [&'static str],
     &'static [&'static str],
     f64,
     (&'static str, &'static str),
@@ -56,11 +64,12 @@ type Case = (
 );
 
 /// The example `file` with every hinge's `directions` set to `response` (`free`, `locked`,
-/// or `stiff`: the `springs`) and the run cut to `duration` s, with the `[run]` keys of
-/// `settings` replaced.
+/// or `stiff`: the `springs`) and its `fixed` directions locked, the run cut to `duration`
+/// s, with the `[run]` keys of `settings` replaced.
 fn variant(
     file: &str,
     directions: &[&str],
+    fixed: &[&str],
     response: &str,
     duration: f64,
     springs: (&str, &str),
@@ -75,6 +84,8 @@ fn variant(
             let spring = if key.starts_with('r') { springs.1 } else { springs.0 };
             let r = if response == "stiff" { spring.to_string() } else { format!("{response} = true") };
             out.push_str(&format!("{key} = {{ {r} }}\n"));
+        } else if fixed.contains(&key) && line.trim_start().starts_with(key) {
+            out.push_str(&format!("{key} = {{ locked = true }}\n"));
         } else if key == "duration" {
             out.push_str(&format!("duration = {duration}\n"));
         } else if let Some((k, v)) = settings.iter().find(|(k, _)| *k == key) {
@@ -126,11 +137,11 @@ fn rhs_cost(s: &Scenario, budget: f64) -> f64 {
     start.elapsed().as_secs_f64() / evals as f64
 }
 
-/// Wall time (s) and RHS evaluations of one whole run.
-fn run(s: &Scenario) -> (f64, u64) {
+/// Wall time (s), RHS evaluations, and locks engaged (of all) of one whole run.
+fn run(s: &Scenario) -> (f64, u64, (usize, usize)) {
     let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
     let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
-    (r.wall_seconds, r.rhs_evaluations)
+    (r.wall_seconds, r.rhs_evaluations, (r.lock_engagements.len(), r.drift.locks))
 }
 
 /// Locked against the hinge's own law: the z-fold example with `directions` locked, or held
@@ -153,14 +164,14 @@ fn sweep(reps: usize) {
     for (integrator, settings) in integrators {
         for dirs in direction_sets {
             let file = "zfold-tape-latch.toml";
-            let locked = variant(file, dirs, "locked", 10.0, EXAMPLE_SPRINGS, settings);
+            let locked = variant(file, dirs, &[], "locked", 10.0, EXAMPLE_SPRINGS, settings);
             let (mut wall_locked, mut n_locked) = (Vec::new(), 0);
             let mut row = String::new();
             for k in STIFFNESS {
                 let k_r = k / 100.0;
                 let translational = format!("k = {k:e}, damping = {:e}", 20.0 * (k / 2e5).sqrt());
                 let rotational = format!("k = {k_r:e}, damping = {:e}", 0.5 * (k_r / 2e3).sqrt());
-                let spring = variant(file, dirs, "stiff", 10.0, (&translational, &rotational), settings);
+                let spring = variant(file, dirs, &[], "stiff", 10.0, (&translational, &rotational), settings);
                 let ((w_locked, n), (wall_spring, n_spring)) = alternate(&locked, &spring, reps);
                 wall_locked.extend(w_locked);
                 n_locked = n;
@@ -178,10 +189,10 @@ fn sweep(reps: usize) {
 fn alternate(a: &Scenario, b: &Scenario, reps: usize) -> ((Vec<f64>, u64), (Vec<f64>, u64)) {
     let ((mut wall_a, mut n_a), (mut wall_b, mut n_b)) = ((Vec::new(), 0), (Vec::new(), 0));
     for _ in 0..reps {
-        let (w, n) = run(a);
+        let (w, n, _) = run(a);
         wall_a.push(w);
         n_a = n;
-        let (w, n) = run(b);
+        let (w, n, _) = run(b);
         wall_b.push(w);
         n_b = n;
     }
@@ -198,24 +209,44 @@ fn main() {
     let (budget, reps) = if quick { (0.05, 1) } else { (0.5, 7) };
     println!("foldsim locks bench (load average {})", load());
     println!(
-        "{:<34} {:>7} {:>12} {:>12} {:>10} {:>12} {:>8}",
-        "case", "variant", "µs/rhs", "rhs ratio", "rhs evals", "run wall s", "ratio"
+        "{:<36} {:>7} {:>12} {:>10} {:>12} {:>8} {:>9}",
+        "case", "variant", "µs/rhs all", "rhs evals", "run wall s", "ratio", "engaged"
     );
     const OFF_AXIS: &[&str] = &["x", "y", "z", "rx", "ry"];
     const TIGHT: &[(&str, &str)] = &[("rtol", "1e-8"), ("atol", "1e-8")];
     const TIGHT_IMPLICIT: &[(&str, &str)] = &[("rtol", "1e-8"), ("atol", "1e-8"), ("integrator", "\"sdirk4\"")];
-    let cases: [Case; 5] = [
-        ("zfold-tape-latch, z", "zfold-tape-latch.toml", &["z"], 10.0, EXAMPLE_SPRINGS, &[]),
-        ("zfold-tape-latch, z rx ry", "zfold-tape-latch.toml", &["z", "rx", "ry"], 10.0, EXAMPLE_SPRINGS, &[]),
-        ("hinged-panels-1dof, x y z rx ry", "hinged-panels-1dof.toml", OFF_AXIS, 300.0, EXAMPLE_SPRINGS, &[]),
-        ("zfold 1e7/1e5, x y z rx ry, dop853", "zfold-tape-latch.toml", OFF_AXIS, 10.0, DESIGN_SPRINGS, TIGHT),
-        ("zfold 1e7/1e5, x y z rx ry, sdirk4", "zfold-tape-latch.toml", OFF_AXIS, 10.0, DESIGN_SPRINGS, TIGHT_IMPLICIT),
+    const Z: &[&str] = &["z", "rx", "ry"];
+    let cases: [Case; 7] = [
+        ("zfold-tape-latch, z", "zfold-tape-latch.toml", &["z"], &[], 10.0, EXAMPLE_SPRINGS, &[]),
+        ("zfold-tape-latch, z rx ry", "zfold-tape-latch.toml", Z, &[], 10.0, EXAMPLE_SPRINGS, &[]),
+        ("zfold, x y locked; z rx ry", "zfold-tape-latch.toml", Z, &["x", "y"], 10.0, EXAMPLE_SPRINGS, &[]),
+        (
+            "zfold, x y locked; z rx ry, sdirk4",
+            "zfold-tape-latch.toml",
+            Z,
+            &["x", "y"],
+            10.0,
+            EXAMPLE_SPRINGS,
+            TIGHT_IMPLICIT,
+        ),
+        ("hinged-panels-1dof, x y z rx ry", "hinged-panels-1dof.toml", OFF_AXIS, &[], 300.0, EXAMPLE_SPRINGS, &[]),
+        ("zfold 1e7/1e5, x y z rx ry, dop853", "zfold-tape-latch.toml", OFF_AXIS, &[], 10.0, DESIGN_SPRINGS, TIGHT),
+        (
+            "zfold 1e7/1e5, x y z rx ry, sdirk4",
+            "zfold-tape-latch.toml",
+            OFF_AXIS,
+            &[],
+            10.0,
+            DESIGN_SPRINGS,
+            TIGHT_IMPLICIT,
+        ),
     ];
     // `-- --profile CASE_INDEX free|locked`: only that case's RHS loop, for a profiler.
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--profile") {
-        let (_, file, dirs, duration, springs, settings) = cases[args[i + 1].parse::<usize>().expect("case index")];
-        let s = variant(file, dirs, &args[i + 2], duration, springs, settings);
+        let (_, file, dirs, fixed, duration, springs, settings) =
+            cases[args[i + 1].parse::<usize>().expect("case index")];
+        let s = variant(file, dirs, fixed, &args[i + 2], duration, springs, settings);
         println!("{:.3} µs/rhs", rhs_cost(&s, 3.0) * 1e6);
         return;
     }
@@ -225,44 +256,36 @@ fn main() {
     }
     // `-- --profile-run CASE_INDEX free|locked|stiff`: that case's whole run, three times.
     if let Some(i) = args.iter().position(|a| a == "--profile-run") {
-        let (_, file, dirs, duration, springs, settings) = cases[args[i + 1].parse::<usize>().expect("case index")];
-        let s = variant(file, dirs, &args[i + 2], duration, springs, settings);
+        let (_, file, dirs, fixed, duration, springs, settings) =
+            cases[args[i + 1].parse::<usize>().expect("case index")];
+        let s = variant(file, dirs, fixed, &args[i + 2], duration, springs, settings);
         for _ in 0..3 {
-            let (wall, evals) = run(&s);
+            let (wall, evals, _) = run(&s);
             println!("{wall:.4} s, {evals} rhs");
         }
         return;
     }
-    for (name, file, dirs, duration, springs, settings) in cases {
-        let free = variant(file, dirs, "free", duration, springs, settings);
-        let locked = variant(file, dirs, "locked", duration, springs, settings);
-        let stiff = variant(file, dirs, "stiff", duration, springs, settings);
-        let (mut cost_free, mut cost_locked) = (Vec::new(), Vec::new());
-        let (cost_stiff, (wall_stiff, n_stiff)) = (rhs_cost(&stiff, budget), run(&stiff));
-        for _ in 0..reps {
-            cost_free.push(rhs_cost(&free, budget));
-            cost_locked.push(rhs_cost(&locked, budget));
-        }
+    for (name, file, dirs, fixed, duration, springs, settings) in cases {
+        let [free, locked, stiff] =
+            ["free", "locked", "stiff"].map(|r| variant(file, dirs, fixed, r, duration, springs, settings));
+        let [cost_free, cost_locked, cost_stiff] = [&free, &locked, &stiff].map(|s| rhs_cost(s, budget));
+        let (wall_stiff, n_stiff, engaged_stiff) = run(&stiff);
         let ((wall_free, n_free), (wall_locked, n_locked)) = alternate(&free, &locked, reps);
-        let (cf, cl) = (median(cost_free), median(cost_locked));
         let (wf, wl) = (median(wall_free), median(wall_locked));
-        println!("{name:<34} {:>7} {:>12.3} {:>12} {n_free:>10} {wf:>12.4} {:>8}", "free", cf * 1e6, "", "");
-        println!(
-            "{:<34} {:>7} {:>12.3} {:>12.3} {n_locked:>10} {wl:>12.4} {:>8.3}",
-            "",
-            "locked",
-            cl * 1e6,
-            cl / cf,
-            wl / wf
-        );
-        println!(
-            "{:<34} {:>7} {:>12.3} {:>12.3} {n_stiff:>10} {wall_stiff:>12.4} {:>8.3}",
-            "",
-            "stiff",
-            cost_stiff * 1e6,
-            cost_stiff / cf,
-            wall_stiff / wf
-        );
+        let engaged = |v: &Scenario| {
+            let (_, _, (e, all)) = run(v);
+            format!("{e}/{all}")
+        };
+        let rows = [
+            ("free", cost_free, n_free, wf, engaged(&free)),
+            ("locked", cost_locked, n_locked, wl, engaged(&locked)),
+            ("stiff", cost_stiff, n_stiff, wall_stiff, format!("{}/{}", engaged_stiff.0, engaged_stiff.1)),
+        ];
+        for (k, (variant, cost, n, wall, engaged)) in rows.into_iter().enumerate() {
+            let label = if k == 0 { name } else { "" };
+            let ratio = if k == 0 { String::new() } else { format!("{:.3}", wall / wf) };
+            println!("{label:<36} {variant:>7} {:>12.3} {n:>10} {wall:>12.4} {ratio:>8} {engaged:>9}", cost * 1e6);
+        }
     }
     println!("\nhub with N panels, five locked directions per hinge:");
     println!("{:>6} {:>8} {:>12} {:>14}", "N", "locks", "µs/rhs", "ns/lock/rhs");

@@ -414,21 +414,18 @@ impl<'m> Dynamics<'m> {
         !self.locks.borrow().is_empty()
     }
 
-    /// Projects `y` onto the locked directions' constraints (positions, then velocities)
-    /// if an engaged one has drifted (see [`crate::constraints::project`]), or always
-    /// with `force`. Disengaged locks are not checked: a drift of theirs engages them
-    /// instead ([`Self::engage_drifted_locks`], after every step). Returns whether `y`
-    /// changed.
+    /// Projects `y` onto the engaged locks' constraints (positions, then velocities) if one
+    /// has drifted (see [`crate::constraints::project`]), or onto every lock's with `force`.
+    /// Disengaged locks are left alone: a drift of theirs engages them instead
+    /// ([`Self::engage_drifted_locks`], after every step). Returns whether `y` changed.
     pub fn project(&self, y: &mut [f64], force: bool) -> bool {
-        let locks = self.locks.borrow();
-        if locks.is_empty() {
-            return false;
-        }
         let refs = self.theta_refs.borrow();
-        if !force && !drifted(self.model, &self.active.borrow().0, &refs, y) {
-            return false;
+        if force {
+            let locks = self.locks.borrow();
+            return !locks.is_empty() && project(self.model, &locks, &refs, y);
         }
-        project(self.model, &locks, &refs, y)
+        let active = self.active.borrow();
+        !active.0.is_empty() && drifted(self.model, &active.0, &refs, y) && project(self.model, &active.0, &refs, y)
     }
 
     /// Total number of event functions over all hinges.

@@ -12,6 +12,9 @@ use common::*;
 use nalgebra::{Matrix4, SymmetricEigen};
 use std::f64::consts::PI;
 
+/// A hinge's five directions other than its fold (rz).
+const OFF_AXIS: &[&str] = &["x", "y", "z", "rx", "ry"];
+
 /// Analytic fold-mode frequencies, rad/s: planar Lagrangian linearised about the straight
 /// configuration, coordinates (hub y, hub yaw ψ, fold angles φ1, φ2); hinges at ±d from the
 /// hub CoM, panel CoMs a further l out.
@@ -172,23 +175,10 @@ fn long_locked_chain_holds_its_locks() {
 /// conserved to round-off either way).
 #[test]
 fn locks_hold_at_loose_tolerance() {
-    let dir = repo("examples");
-    let text = std::fs::read_to_string(dir.join("zfold-tape-latch.toml")).unwrap();
-    let text: String = text
-        .lines()
-        .map(|l| {
-            let key = l.split('=').next().unwrap_or("").trim();
-            match key {
-                "x" | "y" | "z" | "rx" | "ry" => format!("{key} = \"locked\""),
-                "duration" => "duration = 10.0".to_string(),
-                "rtol" => "rtol = 1e-8".to_string(),
-                "atol" => "atol = 1e-8".to_string(),
-                _ => l.to_string(),
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let s = foldsim::scenario::Scenario::from_toml_in(&text, "locked z-fold", &dir).unwrap();
+    let s = example_variant(
+        "zfold-tape-latch.toml",
+        &[(OFF_AXIS, "\"locked\""), (&["duration"], "10.0"), (&["rtol", "atol"], "1e-8")],
+    );
     let (table, _, report) = run(&s);
     let locked = locked_motion(&table, &s);
     let d = &report.drift;
@@ -230,23 +220,18 @@ fn locks_match_the_articulated_body_algorithm() {
 /// momentum restoration, events and latches.
 #[test]
 fn implicit_and_explicit_paths_agree_with_locks() {
-    let dir = repo("examples");
     for (file, duration) in [("hinged-panels-1dof.toml", "60.0"), ("zfold-tape-latch.toml", "8.0")] {
-        let text = std::fs::read_to_string(dir.join(file)).unwrap();
         let variant = |integrator: &str, tol: &str| {
-            let text: String = text
-                .lines()
-                .map(|l| match l.split('=').next().unwrap_or("").trim() {
-                    "x" | "y" | "z" | "rx" | "ry" => format!("{} = \"locked\"", l.split('=').next().unwrap().trim()),
-                    "duration" => format!("duration = {duration}"),
-                    "integrator" => format!("integrator = \"{integrator}\""),
-                    "rtol" => format!("rtol = {tol}"),
-                    "atol" => format!("atol = {tol}"),
-                    _ => l.to_string(),
-                })
-                .collect::<Vec<_>>()
-                .join("\n");
-            foldsim::scenario::Scenario::from_toml_in(&text, file, &dir).unwrap()
+            let integrator = format!("\"{integrator}\"");
+            example_variant(
+                file,
+                &[
+                    (OFF_AXIS, "\"locked\""),
+                    (&["duration"], duration),
+                    (&["integrator"], &integrator),
+                    (&["rtol", "atol"], tol),
+                ],
+            )
         };
         let (implicit, _, ri) = run(&variant("sdirk4", "1e-9"));
         let (explicit, _, _) = run(&variant("dop853", "1e-11"));
@@ -263,4 +248,43 @@ fn implicit_and_explicit_paths_agree_with_locks() {
         assert!(!angles.is_empty() && implicit.rows.len() == explicit.rows.len());
         assert!(worst <= 1e-6, "{file}: {worst:e} rad");
     }
+}
+
+/// A lock is solved for only once it carries load (`Dynamics::disengage_locks`):
+/// - the z-fold example with its out-of-plane directions (z, rx, ry) locked deploys in its
+///   plane, so those locks carry nothing: no evaluation solves for them, and the run is the
+///   run with those directions free, row for row and bit for bit, in as many evaluations;
+/// - the 1-DOF example's locks: x and y carry the folding panels' loads from the first step
+///   (engaged at t = 0, the step retaken), z, rx and ry none (the motion is planar). Its
+///   physics with the locks is checked in `one_dof_hinged_panels_match_linear_theory`.
+///
+/// Fails if idle locks are solved for (evaluations with rows), if a loaded lock is not
+/// engaged, or if the free directions differ from idle locked ones in any digit.
+#[test]
+fn locks_engage_only_where_loaded() {
+    let planar =
+        |value: &str| example_variant("zfold-tape-latch.toml", &[(&["z", "rx", "ry"], value), (&["duration"], "3.0")]);
+    let (locked, _, rl) = run(&planar("\"locked\""));
+    let (free, _, rf) = run(&planar("\"free\""));
+    eprintln!(
+        "planar z-fold: {} evaluations locked ({} solving for locks), {} free; locks engaged {:?}",
+        rl.rhs_evaluations, rl.constrained_evaluations, rf.rhs_evaluations, rl.lock_engagements
+    );
+    assert_eq!(rl.drift.locks, 12);
+    assert!(rl.lock_engagements.is_empty() && rl.constrained_evaluations == 0, "idle locks were solved for");
+    assert_eq!(rl.rhs_evaluations, rf.rhs_evaluations);
+    assert_eq!(locked.rows, free.rows, "idle locks changed the run");
+
+    let s = example_variant("hinged-panels-1dof.toml", &[(&["duration"], "20.0")]);
+    let (_, _, r) = run(&s);
+    let engaged: Vec<(String, usize, f64)> =
+        r.lock_engagements.iter().map(|(l, t)| (s.model.hinges[l.hinge].name.clone(), l.direction, *t)).collect();
+    eprintln!(
+        "1-DOF: locks engaged {engaged:?}; {} of {} evaluations solving",
+        r.constrained_evaluations, r.rhs_evaluations
+    );
+    let expected: Vec<(String, usize, f64)> =
+        [("h1", 0), ("h1", 1), ("h2", 0), ("h2", 1)].iter().map(|(h, d)| (h.to_string(), *d, 0.0)).collect();
+    assert_eq!(engaged, expected, "x and y of both hinges, from the start");
+    assert!(r.constrained_evaluations + 100 > r.rhs_evaluations, "engaged locks are solved for from then on");
 }

@@ -83,3 +83,22 @@ pub fn compare(reference: &Table, ours: &Table) -> (Vec<(String, f64)>, usize) {
     }
     (worst, matched)
 }
+
+/// The shipped example `file` (in `examples/`) with every line whose key is in one of the
+/// `replace` lists set to `key = value` for that list's value.
+pub fn example_variant(file: &str, replace: &[(&[&str], &str)]) -> Scenario {
+    let dir = repo("examples");
+    let text = std::fs::read_to_string(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let text: String = text
+        .lines()
+        .map(|l| {
+            let key = l.split('=').next().unwrap_or("").trim();
+            match replace.iter().find(|(keys, _)| keys.contains(&key)) {
+                Some((_, value)) => format!("{key} = {value}"),
+                None => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    Scenario::from_toml_in(&text, file, &dir).unwrap_or_else(|e| panic!("{e}"))
+}

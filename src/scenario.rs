@@ -529,7 +529,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             ));
         }
     };
-    let settings = RunSettings { duration, output_step, integrator };
+    let settings = RunSettings { duration, output_step, integrator, engage_locks_at_start: false };
 
     // Bodies.
     if raw.bodies.is_empty() {

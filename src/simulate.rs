@@ -70,6 +70,10 @@ pub struct RunSettings {
     pub output_step: f64,
     /// Integration method.
     pub integrator: Integrator,
+    /// Solve for every lock from the start, rather than engaging each once it carries load
+    /// (see [`crate::dynamics::Dynamics::disengage_locks`]): the same motion at a higher
+    /// cost, for comparison. Not a scenario key; false from a scenario.
+    pub engage_locks_at_start: bool,
 }
 
 /// Largest departures from the initial values over all output rows.
@@ -533,7 +537,9 @@ pub fn simulate(
     // Initial rates along locked directions are removed (positions hold by construction).
     dynamics.project(&mut y0, true);
     // Locks are solved for only once they carry load (see `Dynamics::disengage_locks`).
-    dynamics.disengage_locks();
+    if !settings.engage_locks_at_start {
+        dynamics.disengage_locks();
+    }
     let n_events = dynamics.event_count();
     let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
     let mut out = StreamOut {

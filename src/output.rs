@@ -1,6 +1,8 @@
 //! CSV output written atomically: rows stream to `<path>.partial`, which is renamed to
 //! `<path>` only when the run has finished, so an interrupted or failed run never leaves a
-//! file that looks complete.
+//! file that looks complete. A path that is not a regular file (`/dev/null`, `/dev/stdout`,
+//! a named pipe) is written to directly: renaming over it would replace the device or pipe
+//! with a file.
 
 use crate::model::Model;
 use crate::observe::{Observation, columns, row};
@@ -9,19 +11,29 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-/// Streams observations as CSV rows (columns of [`columns`]) to a partial file.
+/// Streams observations as CSV rows (columns of [`columns`]) to a partial file, or straight
+/// to a target that is not a regular file.
 pub struct CsvSink {
     writer: csv::Writer<BufWriter<File>>,
+    /// The file written: `<target>.partial`, or the target itself when it is a device or a
+    /// pipe.
     partial: PathBuf,
     target: PathBuf,
 }
 
 impl CsvSink {
-    /// Creates `<target>.partial` and writes the header.
+    /// Creates `<target>.partial` (or opens `target` itself if it exists and is not a
+    /// regular file) and writes the header.
     pub fn create(target: &Path, model: &Model) -> Result<Self, String> {
-        let mut partial = target.as_os_str().to_owned();
-        partial.push(".partial");
-        let partial = PathBuf::from(partial);
+        let partial = match std::fs::metadata(target) {
+            Ok(m) if m.is_dir() => return Err(format!("{} is a directory: name a CSV file", target.display())),
+            Ok(m) if !m.is_file() => target.to_path_buf(),
+            _ => {
+                let mut partial = target.as_os_str().to_owned();
+                partial.push(".partial");
+                PathBuf::from(partial)
+            }
+        };
         let file = File::create(&partial).map_err(|e| format!("cannot create {}: {e}", partial.display()))?;
         let mut writer = csv::Writer::from_writer(BufWriter::new(file));
         writer.write_record(columns(model)).map_err(|e| format!("{}: {e}", partial.display()))?;
@@ -32,12 +44,15 @@ impl CsvSink {
     pub fn finish(mut self) -> Result<PathBuf, String> {
         self.writer.flush().map_err(|e| format!("{}: {e}", self.partial.display()))?;
         drop(self.writer);
-        std::fs::rename(&self.partial, &self.target)
-            .map_err(|e| format!("cannot rename {} to {}: {e}", self.partial.display(), self.target.display()))?;
+        if self.partial != self.target {
+            std::fs::rename(&self.partial, &self.target)
+                .map_err(|e| format!("cannot rename {} to {}: {e}", self.partial.display(), self.target.display()))?;
+        }
         Ok(self.target)
     }
 
-    /// The partial file's path (left in place when a run fails).
+    /// The path the rows go to until [`Self::finish`] (a partial file, left in place when a
+    /// run fails; or the target itself when it is a device or a pipe).
     pub fn partial_path(&self) -> &Path {
         &self.partial
     }

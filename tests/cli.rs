@@ -81,3 +81,37 @@ fn failed_run_leaves_only_partial_file() {
     assert!(!csv.exists(), "a failed run must not leave a complete-looking file");
     assert!(dir.join("gimbal.csv.partial").exists());
 }
+
+/// `--csv` naming a device or a pipe (`/dev/null`, `/dev/stdout`, a named pipe) streams the
+/// rows to it: renaming a finished `.partial` file over it, as for a regular file, would
+/// replace the device or the pipe with a file (run as root, `--csv /dev/null` replaced
+/// `/dev/null`). Checked on a named pipe read by a second thread, so a regression cannot
+/// harm the machine: the pipe gets the header and every row, stays a pipe, and no
+/// `.partial` file is left.
+#[cfg(unix)]
+#[test]
+fn csv_to_a_pipe_streams_into_it() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tmp("fifo");
+    let fifo = dir.join("rows.csv");
+    std::fs::remove_file(&fifo).ok();
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(&fifo).expect("the pipe reads"))
+    };
+    let out = foldsim()
+        .args(["run", concat!(env!("CARGO_MANIFEST_DIR"), "/examples/paper-1panel.toml"), "-q", "--csv"])
+        .arg(&fifo)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Before joining: had the pipe been replaced, the reader would wait for a writer forever.
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the pipe was replaced by a file");
+    assert!(!dir.join("rows.csv.partial").exists());
+    let text = reader.join().expect("reader finished");
+    let mut lines = text.lines();
+    assert!(lines.next().is_some_and(|h| h.starts_with("t,")), "header first");
+    assert!(lines.count() > 10, "rows streamed to the pipe");
+}

@@ -247,6 +247,10 @@ pub struct Workspace {
 /// A 6×6 block, row-major.
 type Mat6 = [[f64; 6]; 6];
 
+/// Most rows solved dense on the stack rather than in the envelope (see
+/// [`Workspace::solve_small`]).
+const SMALL: usize = 12;
+
 /// The forest of locked hinges: hinges (indices into `groups`) in breadth-first order from
 /// each tree's root, as (hinge, near body, far body, far body's side in the rows: 0 parent,
 /// 1 child), and the roots.
@@ -629,6 +633,59 @@ impl Workspace {
         true
     }
 
+    /// Overwrites `self.lambda` (the right-hand side) with `K⁻¹` of it for at most [`SMALL`]
+    /// rows, K assembled and factored dense on the stack (after [`Self::prepare`]): for a
+    /// few locks the envelope's bookkeeping costs more than the arithmetic. Returns false if
+    /// K is singular.
+    #[allow(clippy::needless_range_loop)] // index loops over a small dense matrix, as the formulas
+    fn solve_small(&mut self, rows: &[Row]) -> bool {
+        let n = rows.len();
+        let mut k = [[0.0; SMALL]; SMALL];
+        // K_ij = Σ over the bodies rows i and j share of (J_i)_b · (M⁻¹ J_jᵀ)_b.
+        for i in 0..n {
+            let (pi, ci) = (rows[i].parent, rows[i].child);
+            for j in 0..=i {
+                let (pj, cj) = (rows[j].parent, rows[j].child);
+                let (a, b) = (&self.parts[i], &self.parts[j]);
+                let mut v = 0.0;
+                for (side_i, body_i) in [(0, pi), (2, ci)] {
+                    for (side_j, body_j) in [(1, pj), (3, cj)] {
+                        if body_i == body_j {
+                            v += dot6(&a[side_i], &b[side_j]);
+                        }
+                    }
+                }
+                k[i][j] = v;
+            }
+        }
+        // Cholesky, lower triangle in place, with the diagonal's reciprocals.
+        let mut inv_diag = [0.0; SMALL];
+        for i in 0..n {
+            for j in 0..i {
+                let mut v = k[i][j];
+                for m in 0..j {
+                    v -= k[i][m] * k[j][m];
+                }
+                k[i][j] = v * inv_diag[j];
+            }
+            let d = k[i][i] - (0..i).map(|m| k[i][m] * k[i][m]).sum::<f64>();
+            if d.is_nan() || d <= 0.0 {
+                return false;
+            }
+            inv_diag[i] = 1.0 / d.sqrt();
+        }
+        let x = &mut self.lambda;
+        for i in 0..n {
+            let v = x[i] - (0..i).map(|m| k[i][m] * x[m]).sum::<f64>();
+            x[i] = v * inv_diag[i];
+        }
+        for i in (0..n).rev() {
+            let v = x[i] - (i + 1..n).map(|m| k[m][i] * x[m]).sum::<f64>();
+            x[i] = v * inv_diag[i];
+        }
+        true
+    }
+
     /// Overwrites `self.lambda` (the right-hand side) with `K⁻¹` of it.
     fn solve(&mut self) {
         let n = self.lambda.len();
@@ -663,12 +720,18 @@ impl Workspace {
         if self.forest.is_some() {
             return self.correct_forest(model, rows, residual);
         }
-        if !self.factor_envelope() {
-            return false;
-        }
         self.lambda.clear();
         self.lambda.extend(residual.iter().map(|r| -r));
-        self.solve();
+        if rows.len() <= SMALL {
+            if !self.solve_small(rows) {
+                return false;
+            }
+        } else {
+            if !self.factor_envelope() {
+                return false;
+            }
+            self.solve();
+        }
         for ((row, part), &l) in rows.iter().zip(&self.parts).zip(&self.lambda) {
             for (body, m) in [(row.parent, &part[1]), (row.child, &part[3])] {
                 for (d, m) in self.delta[body].iter_mut().zip(m) {
@@ -892,13 +955,14 @@ mod tests {
     use super::*;
     use nalgebra::{DMatrix, DVector};
 
-    /// Elimination along the forest and the envelope solve of `J M⁻¹ Jᵀ` give the same
-    /// correction (to 1e-12 of its size: both are direct solves of well-conditioned systems,
-    /// and a wrong term in either would be off by O(1)), on a chain (the z-fold example with
-    /// x, z and ry locked: inner bodies with locked hinges further out, and a leaf) and a star
-    /// (the 1-DOF example: two leaves on the hub, five locks each).
+    /// Elimination along the forest, the dense solve of `J M⁻¹ Jᵀ` on the stack and its
+    /// envelope solve give the same correction and multipliers (to 1e-12 of their size: all
+    /// are direct solves of well-conditioned systems, and a wrong term in any would be off by
+    /// O(1)), on a chain (the z-fold example with x, z and ry locked: inner bodies with
+    /// locked hinges further out, and a leaf) and a star (the 1-DOF example: two leaves on
+    /// the hub, five locks each).
     #[test]
-    fn forest_elimination_matches_envelope_solve() {
+    fn forest_dense_and_envelope_solves_agree() {
         use crate::dynamics::Dynamics;
         use crate::init::initial_state;
         let zfold = crate::scenario::example_with("zfold-tape-latch.toml", &["x", "z", "ry"], "\"locked\"");
@@ -919,7 +983,7 @@ mod tests {
             assert!(work.correct(&s.model, &rows, &residual));
             let by_forest = work.delta.clone();
             work.forest = None;
-            work.envelope_terms(&rows);
+            assert!(rows.len() <= SMALL, "solved dense on the stack");
             assert!(work.correct(&s.model, &rows, &residual));
             let scale = work.delta.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
             let diff = by_forest
@@ -927,7 +991,16 @@ mod tests {
                 .flatten()
                 .zip(work.delta.iter().flatten())
                 .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            assert!(scale > 0.0 && diff <= 1e-12 * scale, "forest vs envelope: {diff:e} of {scale:e}");
+            assert!(scale > 0.0 && diff <= 1e-12 * scale, "forest vs dense: {diff:e} of {scale:e}");
+            // The envelope solve (used above SMALL rows) gives the dense solve's multipliers.
+            let dense = work.lambda.clone();
+            work.envelope_terms(&rows);
+            work.lambda = residual.iter().map(|r| -r).collect();
+            assert!(work.factor_envelope());
+            work.solve();
+            let scale = dense.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let diff = dense.iter().zip(&work.lambda).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(scale > 0.0 && diff <= 1e-12 * scale, "envelope vs dense: {diff:e} of {scale:e}");
         }
     }
 

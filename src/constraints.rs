@@ -527,7 +527,9 @@ impl Workspace {
             // Eliminate along the forest only where it is cheaper: its 6×6 body blocks cost
             // more than a narrow envelope (a chain with one or two locks per hinge), far less
             // than a wide one (a hub holding many locked hinges makes K dense). Estimated
-            // multiply-adds per solve; the constants follow the loops below.
+            // multiply-adds per solve; the constants follow the loops below. Up to SMALL rows,
+            // K dense on the stack is cheapest (the 1-DOF example all locked, 10 rows: 1.2
+            // against 1.5–1.9 µs per evaluation by the forest).
             if let Some(f) = &self.forest {
                 let tree: usize = f
                     .order
@@ -541,7 +543,7 @@ impl Workspace {
                     + 100 * f.roots.len();
                 let envelope: usize =
                     (0..self.first.len()).map(|i| (i - self.first[i] + 1) * (i - self.first[i] + 25) / 2).sum();
-                if tree >= envelope {
+                if tree >= envelope || rows.len() <= SMALL {
                     self.forest = None;
                 }
             }

@@ -307,6 +307,10 @@ impl<'m> Dynamics<'m> {
     /// [`Self::locks`]).
     pub fn engage_drifted_locks(&self, y: &[f64]) -> Vec<usize> {
         let mut out = Vec::new();
+        if self.active.borrow().0.len() == self.locks.borrow().len() {
+            // Every lock engaged, or none locked (this runs after every step).
+            return out;
+        }
         {
             let locks = self.locks.borrow();
             let ranges = self.lock_ranges.borrow();

@@ -860,9 +860,10 @@ pub fn independent(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: 
     work.correct(model, &rows, &vec![0.0; rows.len()])
 }
 
-/// Drift of a locked coordinate (m or rad) or of its rate (m/s or rad/s) beyond which
-/// the state is projected ([`project`]) or a disengaged lock engaged. Well below the 1e-9 the locks promise, and rarely reached
-/// at tight tolerances, so the integration is seldom restarted.
+/// Drift of a locked coordinate (m or rad) or of its rate (m/s or rad/s) beyond which the
+/// state is projected ([`project`]) or a disengaged lock engaged. Well below the 1e-9 the
+/// locks promise, and rarely reached at tight tolerances, so the integration is seldom
+/// restarted.
 pub const DRIFT_LIMIT: f64 = 1e-11;
 
 /// Whether a locked coordinate or its rate has drifted beyond [`DRIFT_LIMIT`] at state `y`
@@ -902,8 +903,8 @@ pub fn drift_mask(model: &Model, group: &[Lock], refs: &[Euler321], y: &[f64]) -
 
 /// Projects the state onto the constraint manifold of `locks`: two mass-weighted Newton
 /// corrections of the poses, then one of the velocities (the caller decides when, see
-/// [`drifted`]). Returns whether `y` changed.
-pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64]) -> bool {
+/// [`drifted`]). Stops early if the locks are redundant there.
+pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64]) {
     let nb = model.bodies.len();
     let motions = |y: &[f64]| (0..nb).map(|i| BodyMotion::from_state(y, i)).collect::<Vec<_>>();
     let mut work = Workspace::default();
@@ -913,7 +914,7 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64]) 
         work.prepare(model, &rows, &m);
         let errors: Vec<f64> = rows.iter().map(|r| r.error).collect();
         if !work.correct(model, &rows, &errors) {
-            return true;
+            return;
         }
         for &i in &work.touched {
             let d = &work.delta[i];
@@ -949,7 +950,6 @@ pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64]) 
             }
         }
     }
-    true
 }
 
 #[cfg(test)]

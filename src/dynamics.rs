@@ -424,12 +424,13 @@ impl<'m> Dynamics<'m> {
     /// ([`Self::engage_drifted_locks`], after every step). Returns whether `y` changed.
     pub fn project(&self, y: &mut [f64], force: bool) -> bool {
         let refs = self.theta_refs.borrow();
-        if force {
-            let locks = self.locks.borrow();
-            return !locks.is_empty() && project(self.model, &locks, &refs, y);
+        let (all, active) = (self.locks.borrow(), self.active.borrow());
+        let locks = if force { &*all } else { &active.0 };
+        if locks.is_empty() || !(force || drifted(self.model, locks, &refs, y)) {
+            return false;
         }
-        let active = self.active.borrow();
-        !active.0.is_empty() && drifted(self.model, &active.0, &refs, y) && project(self.model, &active.0, &refs, y)
+        project(self.model, locks, &refs, y);
+        true
     }
 
     /// Total number of event functions over all hinges.

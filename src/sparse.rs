@@ -134,11 +134,11 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     /// `nb + g` of the elimination (see [`GraphNewton::new_exact`]). Empty otherwise, and
     /// empty while every lock is idle (see [`ExactJacobian::constraint_jacobian`]).
     groups: Vec<(usize, usize, usize)>,
-    /// All locked hinges; the elimination order and positions with the nodes of the locks
-    /// last carried (`carried`, as `groups`) and without any (idle or disengaged locks leave
-    /// the Newton matrix: their multipliers are zero, and a motion that keeps them idle
-    /// never leaves their constraints).
-    lock_groups: Vec<(usize, usize, usize)>,
+    /// Whether any direction is locked; the elimination order and positions with the nodes
+    /// of the locks last carried (`carried`, as `groups`) and without any (idle or
+    /// disengaged locks leave the Newton matrix: their multipliers are zero, and a motion
+    /// that keeps them idle never leaves their constraints).
+    has_locks: bool,
     carried: Vec<(usize, usize, usize)>,
     with_locks: (Vec<usize>, Vec<usize>),
     without_locks: (Vec<usize>, Vec<usize>),
@@ -175,7 +175,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
     fn build(system: &'a S, model: &Model, exact: Option<&'a dyn ExactJacobian>) -> Self {
         let nb = model.bodies.len();
         let edges: Vec<(usize, usize)> = model.hinges.iter().map(|h| (h.parent, h.child)).collect();
-        let groups = exact.map(|e| e.locked_hinges()).unwrap_or_default();
+        let has_locks = exact.is_some_and(|e| !e.locked_hinges().is_empty());
         let mut newton = Self {
             system,
             exact,
@@ -198,7 +198,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             p_rx: Vec::new(),
             twist: Vec::new(),
             groups: Vec::new(),
-            lock_groups: groups,
+            has_locks,
             carried: Vec::new(),
             with_locks: (Vec::new(), Vec::new()),
             without_locks: (Vec::new(), Vec::new()),
@@ -207,7 +207,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         };
         // With an exact Jacobian the locks are rows of the system (`groups`), and bodies couple
         // along hinges only.
-        if newton.lock_groups.is_empty() {
+        if !newton.has_locks {
             newton.set_structure(&Self::differenced_coupling(model, edges));
         } else {
             newton.set_structure(&edges);
@@ -390,7 +390,7 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             };
             if source.acceleration_jacobian(y, &mut add) {
                 self.group_rows.clear();
-                if !self.lock_groups.is_empty() {
+                if self.has_locks {
                     // No rows: every lock idle or disengaged (see
                     // `ExactJacobian::constraint_jacobian`).
                     let locks = source.constraint_jacobian(y, &mut add);
@@ -401,7 +401,7 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
                 return self.refactor(h_gamma);
             }
         }
-        if !self.lock_groups.is_empty() {
+        if self.has_locks {
             // The structure carries the constraints as rows, which differences of the
             // constrained right-hand side do not fit (every law has a dual form).
             return false;

@@ -34,7 +34,7 @@
 //! stiffness sweep of [`sweep`] instead of the cases).
 
 use foldsim::dynamics::Dynamics;
-use foldsim::init::initial_state;
+use foldsim::kinematics::initial_state;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::simulate;
 use std::path::Path;

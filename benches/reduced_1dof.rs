@@ -15,7 +15,7 @@
 mod aba;
 use aba::{Reduced, Scratch, compare, example, moving_state};
 use foldsim::dynamics::Dynamics;
-use foldsim::init::initial_state;
+use foldsim::kinematics::initial_state;
 use std::time::Instant;
 
 fn per_eval(mut f: impl FnMut()) -> f64 {

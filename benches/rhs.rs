@@ -14,7 +14,7 @@
 
 use foldsim::dynamics::Dynamics;
 use foldsim::generate::{Params, grid, zfold};
-use foldsim::init::initial_state;
+use foldsim::kinematics::initial_state;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::simulate;
 use std::time::Instant;

@@ -8,27 +8,25 @@
 //! hinge, tree or loop, is a force element between two bodies (`docs/architecture.md`).
 //! The paper's relative coordinates (δ, θ per hinge) are the language of input and output.
 //!
-//! Layers: [`model`] (static description) → [`init`] (relative initial conditions to body
-//! states) → [`dynamics`] (equations of motion) → [`simulate`] (integration, streaming) →
-//! [`observe`] (outputs of MODEL.md §5). [`scenario`] reads TOML scenario files.
+//! Layers, lowest first; a module uses only modules above it in this list:
+//! [`math`] (rotations) → [`integrate`] (generic integrators) → [`law`] (hinge laws) →
+//! [`model`] (static description) → [`state`] (the state vector) → [`kinematics`] (hinge
+//! relative states, initial conditions) → [`dynamics`] (equations of motion, locks, the
+//! exact Jacobian, the hinge-graph Newton matrix) → [`observe`] (outputs) → [`simulate`]
+//! (a run) → [`scenario`] (TOML files) → [`output`] (CSV, plots) → [`generate`]
+//! (scenario generators). `tests/layers.rs` checks it.
 
 #![warn(missing_docs)]
 
-pub mod constraints;
 pub mod dynamics;
 pub mod generate;
-pub mod implicit;
-pub mod init;
-pub mod jacobian;
+pub mod integrate;
+pub mod kinematics;
 pub mod law;
 pub mod math;
 pub mod model;
 pub mod observe;
-pub mod ode;
 pub mod output;
-#[cfg(feature = "plot")]
-pub mod plot;
 pub mod scenario;
 pub mod simulate;
-pub mod sparse;
 pub mod state;

@@ -133,7 +133,7 @@ fn main() -> ExitCode {
         }
         #[cfg(feature = "plot")]
         Command::Plot { csv, columns, degrees, title, output } => {
-            foldsim::plot::plot_columns(&csv, &columns, degrees, &title, &output)
+            foldsim::output::plot::plot_columns(&csv, &columns, degrees, &title, &output)
         }
     };
     match result {

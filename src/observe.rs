@@ -1,6 +1,6 @@
 //! The outputs of MODEL.md §5, computed from a state, and their CSV column names.
 
-use crate::dynamics::hinge_kinematics;
+use crate::kinematics::hinge_kinematics;
 use crate::law::LawMemory;
 use crate::math::{Euler321, Vec3};
 use crate::model::Model;

@@ -90,8 +90,8 @@ fn loop_hinge_yaw_is_continuous_past_180_degrees() {
     // Same structure with hb as the loop hinge: p2 placed from the hub through hc.
     let h = tree.model.hinge_index("hc").unwrap();
     let hc = &tree.model.hinges[h];
-    let (y0, refs) = foldsim::init::initial_state(&tree.model, &tree.initial);
-    let k = foldsim::dynamics::hinge_kinematics(
+    let (y0, refs) = foldsim::kinematics::initial_state(&tree.model, &tree.initial);
+    let k = foldsim::kinematics::hinge_kinematics(
         hc,
         &foldsim::state::BodyMotion::from_state(&y0, hc.parent),
         &foldsim::state::BodyMotion::from_state(&y0, hc.child),

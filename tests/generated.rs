@@ -1,4 +1,4 @@
-//! Generated structures (src/generate.rs) run and keep the invariants: a z-folded chain and
+//! Generated structures (src/generate/) run and keep the invariants: a z-folded chain and
 //! a grid whose hinges mostly close loops, stiff off-axis (1e6 N/m, 1e3 N·m/rad) and soft in
 //! the fold. Linear and angular momentum are conserved to 1e-10 of their scales (internal
 //! wrench pairs; the integration error of H at rtol 1e-10 is ~1e-13) and energy to 1e-8

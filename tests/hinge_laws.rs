@@ -208,9 +208,9 @@ yaw_deg = 90.0
 /// scenario's initial state moved off equilibrium (every term live), with the memory the
 /// initial state gives.
 fn jacobian_mismatch(s: &Scenario) -> f64 {
-    use foldsim::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
+    use foldsim::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
     const B: usize = 13;
-    let (mut y, refs) = foldsim::init::initial_state(&s.model, &s.initial);
+    let (mut y, refs) = foldsim::kinematics::initial_state(&s.model, &s.initial);
     let nb = s.model.bodies.len();
     for (k, v) in y.iter_mut().enumerate().take(B * nb) {
         *v += 1e-3 * (((k * 7919) % 13) as f64 - 6.0);

@@ -6,8 +6,8 @@
 
 mod common;
 use common::*;
-use foldsim::dynamics::hinge_kinematics;
-use foldsim::init::initial_state;
+use foldsim::kinematics::hinge_kinematics;
+use foldsim::kinematics::initial_state;
 use foldsim::scenario::Scenario;
 use foldsim::state::BodyMotion;
 

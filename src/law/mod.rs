@@ -194,7 +194,7 @@ pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
     }
 
     /// Directions (x, y, z, rx, ry, rz) held rigid at their initial values by constraints
-    /// (see [`crate::constraints`]); rotational ones are 3-2-1 Euler angles.
+    /// (see [`crate::dynamics::locks`]); rotational ones are 3-2-1 Euler angles.
     fn locked_directions(&self) -> [bool; 6] {
         [false; 6]
     }

@@ -9,8 +9,9 @@
 //! and law code as the simulator.
 #![allow(dead_code)]
 
-use foldsim::dynamics::{Dynamics, hinge_kinematics};
-use foldsim::init::initial_state;
+use foldsim::dynamics::Dynamics;
+use foldsim::kinematics::hinge_kinematics;
+use foldsim::kinematics::initial_state;
 use foldsim::math::{Euler321, Mat3, Vec3};
 use foldsim::scenario::Scenario;
 use foldsim::state::{BODY_STATE_LEN as B, BodyMotion};

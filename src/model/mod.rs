@@ -1,84 +1,16 @@
 //! The static description of a structure: bodies, hinges, and the spanning tree used to turn
 //! relative initial conditions into body poses (MODEL.md §2).
 
+pub mod body;
+pub mod hinge;
+
+pub use body::Body;
+pub use hinge::{Hinge, HingeSpec, ParentFrame, Placement};
+
 use crate::law::HingeLaw;
 use crate::math::{Euler321, Mat3, Vec3};
 use std::collections::VecDeque;
 use thiserror::Error;
-
-/// A rigid body (MODEL.md §2). Body 0 is the hub.
-#[derive(Clone, Debug)]
-pub struct Body {
-    /// Unique name, used for output columns.
-    pub name: String,
-    /// Mass, kg (> 0).
-    pub mass: f64,
-    /// Inertia tensor about the CoM in the body frame, kg·m² (symmetric positive definite,
-    /// triangle inequalities hold).
-    pub inertia_in_body: Mat3,
-    /// Inverse of `inertia_in_body`, 1/(kg·m²).
-    pub(crate) inertia_inv_in_body: Mat3,
-}
-
-/// Where a hinge's zero-force frame A0 sits in its parent (MODEL.md §2).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ParentFrame {
-    /// Given explicitly: origin `ᵖr_{A0/p}` (m, parent components) and `[A0 p]`.
-    Given {
-        /// `ᵖr_{A0/p}`, m, parent components.
-        r_a0_in_parent: Vec3,
-        /// `[A0 p]`.
-        dcm_a0_parent: Mat3,
-    },
-    /// Placed once where A lies when every tree coordinate is zero (loop hinges only).
-    Assembled,
-}
-
-/// A hinge as described in a scenario, before A0 frames are assembled.
-#[derive(Debug)]
-pub struct HingeSpec {
-    /// Unique name, used for output columns.
-    pub name: String,
-    /// Index of the parent body.
-    pub parent: usize,
-    /// Index of the child body.
-    pub child: usize,
-    /// A0 in the parent.
-    pub parent_frame: ParentFrame,
-    /// `ᴬr_{c/A}`: the child's CoM from A's origin, m, A components.
-    pub r_child_in_a: Vec3,
-    /// `[c A]`: the child's body frame relative to A.
-    pub dcm_child_a: Mat3,
-    /// Force and torque response.
-    pub law: Box<dyn HingeLaw>,
-}
-
-/// A hinge with both frames resolved (MODEL.md §2).
-#[derive(Debug)]
-pub struct Hinge {
-    /// Unique name, used for output columns.
-    pub name: String,
-    /// Index of the parent body.
-    pub parent: usize,
-    /// Index of the child body.
-    pub child: usize,
-    /// `ᵖr_{A0/p}`: A0's origin from the parent CoM, m, parent components.
-    pub r_a0_in_parent: Vec3,
-    /// `[A0 p]`.
-    pub dcm_a0_parent: Mat3,
-    /// `ᴬr_{c/A}`: the child's CoM from A's origin, m, A components.
-    pub r_child_in_a: Vec3,
-    /// `[c A]`.
-    pub dcm_child_a: Mat3,
-    /// `ᶜr_{A/c} = −[c A] ᴬr_{c/A}`: A's origin from the child CoM, m, child components.
-    pub(crate) r_a_in_child: Vec3,
-    /// `[p A0] = [A0 p]ᵀ`.
-    pub(crate) dcm_parent_a0: Mat3,
-    /// Force and torque response.
-    pub law: Box<dyn HingeLaw>,
-    /// Whether A0 was assembled (MODEL.md §2) rather than given.
-    pub assembled: bool,
-}
 
 /// One edge of the spanning tree, in the order bodies are placed from the hub.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -126,48 +58,6 @@ impl ModelError {
         Self { message, body: None, hinge: Some(hinge) }
     }
 }
-
-impl Body {
-    /// A body, checked: mass > 0 and finite; inertia finite, symmetric (to 1e-12 relative),
-    /// positive definite and satisfying the triangle inequalities of its principal values.
-    pub fn new(name: &str, mass: f64, inertia_in_body: Mat3) -> Result<Self, String> {
-        if !(mass.is_finite() && mass > 0.0) {
-            return Err(format!("body '{name}': mass must be a finite number > 0 kg, got {mass}"));
-        }
-        if inertia_in_body.iter().any(|x| !x.is_finite()) {
-            return Err(format!("body '{name}': inertia has a non-finite entry"));
-        }
-        let scale = inertia_in_body.abs().max();
-        let asym = (inertia_in_body - inertia_in_body.transpose()).abs().max();
-        if asym > 1e-12 * scale {
-            return Err(format!(
-                "body '{name}': inertia tensor is not symmetric (largest |I_ij − I_ji| = {asym:e} kg·m²)"
-            ));
-        }
-        let sym = (inertia_in_body + inertia_in_body.transpose()) * 0.5;
-        let eig = sym.symmetric_eigenvalues();
-        let mut p = [eig[0], eig[1], eig[2]];
-        p.sort_by(f64::total_cmp);
-        if p[0] <= 0.0 {
-            return Err(format!(
-                "body '{name}': inertia must be positive definite; principal values are {:.6e}, {:.6e}, {:.6e} kg·m²",
-                p[0], p[1], p[2]
-            ));
-        }
-        // Triangle inequality: the largest principal value may not exceed the sum of the
-        // other two (a thin plate reaches equality); allow rounding of the input.
-        if p[2] > (p[0] + p[1]) * (1.0 + 1e-9) {
-            return Err(format!(
-                "body '{name}': principal inertias {:.6e}, {:.6e}, {:.6e} kg·m² violate the triangle inequality (the largest must not exceed the sum of the other two)",
-                p[0], p[1], p[2]
-            ));
-        }
-        let inertia_inv_in_body =
-            sym.try_inverse().ok_or_else(|| format!("body '{name}': inertia tensor is singular"))?;
-        Ok(Self { name: name.to_string(), mass, inertia_in_body: sym, inertia_inv_in_body })
-    }
-}
-
 impl Model {
     /// Builds a model: checks the hinge graph, finds the spanning tree and assembles every
     /// `Assembled` A0 frame.
@@ -350,8 +240,8 @@ impl Model {
         let mut poses = vec![(Vec3::zeros(), Mat3::identity()); self.bodies.len()];
         for e in &self.tree {
             let h = &self.hinges[e.hinge];
-            let zero = crate::init::RelativeTwist::default();
-            poses[e.to] = crate::init::place_body(h, e.reversed, poses[e.from], Euler321::default(), &zero).0;
+            let placed = h.place(e.reversed, poses[e.from], &Euler321::default().to_dcm(), &Vec3::zeros());
+            poses[e.to] = (placed.r_in_n, placed.dcm_n_b);
         }
         poses
     }

@@ -13,11 +13,12 @@
 //! (hysteresis branch, stop contact) held, as the piecewise-smooth response is between
 //! events. With locked directions this is the Jacobian of the accelerations before the
 //! constraint forces; the Newton matrix adds the constraints themselves as rows
-//! ([`ExactJacobian::constraint_jacobian`], see [`crate::sparse`]). A law without a dual form
+//! ([`ExactJacobian::constraint_jacobian`], see [`super::newton`]). A law without a dual form
 //! makes the caller fall back to finite differences.
 
-use crate::constraints::{Lock, hinge_rows};
-use crate::dynamics::{Dynamics, hinge_kinematics};
+use super::Dynamics;
+use super::locks::{Lock, hinge_rows};
+use crate::kinematics::hinge_kinematics;
 use crate::law::JacobianDual as D;
 use crate::math::{lift, re, real};
 use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, VEL};
@@ -52,7 +53,7 @@ pub trait ExactJacobian {
     /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the engaged locks' rows (see
     /// [`crate::dynamics::Dynamics::disengage_locks`]). Returns no rows (and sends nothing)
     /// when every lock is idle there: the free accelerations satisfy the locks to round-off
-    /// and the multipliers are zero (see [`crate::constraints::constrain_accelerations`]).
+    /// and the multipliers are zero (see [`crate::dynamics::locks::constrain_accelerations`]).
     fn constraint_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> LockRows {
         LockRows::default()
     }

@@ -3,78 +3,10 @@
 //! order-3 solution) with simplified Newton iterations.
 //!
 //! The Newton matrix `W = I − hγJ` is supplied by a [`NewtonMatrix`]: how the Jacobian is
-//! formed and factored is separate from the method. [`DenseNewton`] (here) is for small
-//! systems and tests; runs use [`crate::sparse::GraphNewton`], which follows the hinge graph.
+//! formed and factored is separate from the method.
 
-use crate::ode::{Control, OdeError, OdeSystem, Stats, Step};
-
-/// Forms and factors `W = I − hγ J(t, y)` and solves with it.
-pub trait NewtonMatrix {
-    /// Forms and factors W at `(t, y)` with `f = f(t, y)` already known. Returns false if W
-    /// is singular.
-    fn prepare(&mut self, t: f64, y: &[f64], f: &[f64], h_gamma: f64) -> bool;
-    /// Refactors W for a new `hγ` with the Jacobian kept. Returns false if singular.
-    fn refactor(&mut self, h_gamma: f64) -> bool;
-    /// Overwrites `b` with `W⁻¹ b`.
-    fn solve(&mut self, b: &mut [f64]);
-    /// Right-hand-side evaluations spent forming Jacobians so far.
-    fn evaluations(&self) -> usize;
-}
-
-/// A dense Newton matrix: the Jacobian by forward differences, an LU factorization. Its cost
-/// grows as n³; for small systems and for testing.
-pub struct DenseNewton<'a, S: OdeSystem + ?Sized> {
-    system: &'a S,
-    jacobian: nalgebra::DMatrix<f64>,
-    lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
-    evaluations: usize,
-}
-
-impl<'a, S: OdeSystem + ?Sized> DenseNewton<'a, S> {
-    /// A dense Newton matrix for `system` of dimension `n`.
-    pub fn new(system: &'a S, n: usize) -> Self {
-        Self { system, jacobian: nalgebra::DMatrix::zeros(n, n), lu: None, evaluations: 0 }
-    }
-}
-
-impl<S: OdeSystem + ?Sized> NewtonMatrix for DenseNewton<'_, S> {
-    fn prepare(&mut self, t: f64, y: &[f64], f: &[f64], h_gamma: f64) -> bool {
-        let n = y.len();
-        let mut yp = y.to_vec();
-        let mut fp = vec![0.0; n];
-        for j in 0..n {
-            let d = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt().max(1e-8);
-            yp[j] = y[j] + d;
-            self.system.rhs(t, &yp, &mut fp);
-            self.evaluations += 1;
-            for i in 0..n {
-                self.jacobian[(i, j)] = (fp[i] - f[i]) / d;
-            }
-            yp[j] = y[j];
-        }
-        self.refactor(h_gamma)
-    }
-
-    fn refactor(&mut self, h_gamma: f64) -> bool {
-        let n = self.jacobian.nrows();
-        let w = nalgebra::DMatrix::identity(n, n) - &self.jacobian * h_gamma;
-        let lu = w.lu();
-        let ok = lu.is_invertible();
-        self.lu = Some(lu);
-        ok
-    }
-
-    fn solve(&mut self, b: &mut [f64]) {
-        let lu = self.lu.as_ref().expect("prepared before solving");
-        let mut v = nalgebra::DVector::from_column_slice(b);
-        lu.solve_mut(&mut v);
-        b.copy_from_slice(v.as_slice());
-    }
-
-    fn evaluations(&self) -> usize {
-        self.evaluations
-    }
-}
+use super::newton::NewtonMatrix;
+use super::step::{Control, OdeError, OdeSystem, Stats, Step, announce_start};
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -94,7 +26,7 @@ fn norm(v: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
 }
 
 /// Integrates `system` from `t0` to `tf` with SDIRK4, calling `on_step` after every
-/// accepted step with a cubic Hermite dense output (as [`crate::ode::integrate`]).
+/// accepted step with a cubic Hermite dense output (as [`super::integrate`]).
 #[allow(clippy::too_many_arguments)]
 pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     system: &S,
@@ -113,7 +45,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut f0 = vec![0.0; n];
     system.rhs(t, &y, &mut f0);
     stats.rhs_evaluations += 1;
-    crate::ode::announce_start(t0, &y, &mut on_step)?;
+    announce_start(t0, &y, &mut on_step)?;
     let mut h = (1e-3 * (tf - t0)).min(1e-2);
     let mut fresh_jacobian = true;
     stats.jacobians += 1;
@@ -300,6 +232,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrate::DenseNewton;
 
     /// The tableau's order conditions up to order 4 (stiffly accurate: b = last row).
     #[test]

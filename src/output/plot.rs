@@ -10,7 +10,7 @@ static FONT: Once = Once::new();
 fn register() {
     FONT.call_once(|| {
         // DejaVu Sans (assets/DejaVuSans-LICENSE.txt): embedded so no system font is needed.
-        let bytes: &'static [u8] = include_bytes!("../assets/DejaVuSans.ttf");
+        let bytes: &'static [u8] = include_bytes!("../../assets/DejaVuSans.ttf");
         let _ = register_font("sans-serif", FontStyle::Normal, bytes);
     });
 }

@@ -1,98 +1,11 @@
-//! Locked hinge directions: holonomic constraints between two bodies, held exactly.
-//!
-//! A locked direction keeps one relative coordinate of a hinge at its initial value: a
-//! component of δ (A0 components), or one 3-2-1 Euler angle of `[A A0]`. In maximal
-//! coordinates each lock is a constraint row `J V = 0` on the two bodies' twists
-//! (`V = (v, ω)`, N components), with the acceleration-level form `J V̇ + γ = 0`, `γ` the
-//! velocity-product terms, derived exactly below. Each right-hand-side evaluation solves
-//! `(J M⁻¹ Jᵀ) λ = −(J a_free + γ)` for the constraint multipliers: ideal (workless) wrench
-//! pairs, equal and opposite at a common point, so energy and momentum are conserved. After
-//! every accepted step the state is projected back onto the constraint manifold (positions,
-//! then velocities, mass-weighted), which holds the locked coordinates to round-off.
-//!
-//! `J M⁻¹ Jᵀ` couples only locks whose hinges share a body; it is assembled hinge pair by
-//! hinge pair and factored within its envelope (no fill outside it), which for a chain of
-//! locked hinges is linear in their number.
+//! The multiplier solves: the smallest mass-weighted correction `Δ = M⁻¹ Jᵀ λ` that meets
+//! every engaged lock's row, along the forest of locked hinges, dense for a few rows, or in
+//! the envelope of `J M⁻¹ Jᵀ`; and the acceleration correction the right-hand side applies.
 
-use crate::dynamics::{HingeKinematics, hinge_kinematics, hinge_translation};
-use crate::math::{Euler321, EulerTrig, Real, Vec3, real};
-use crate::model::{Hinge, Model};
-use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
-use nalgebra::Vector3;
-
-/// One locked direction of one hinge.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Lock {
-    /// Hinge index.
-    pub hinge: usize,
-    /// Direction: 0..3 = δ x, y, z; 3, 4, 5 = rx (roll θ3), ry (pitch θ2), rz (yaw θ1).
-    pub direction: usize,
-    /// Value held, m or rad (the initial value).
-    pub target: f64,
-}
-
-/// A constraint row at one state (in f64, or in dual numbers for the Jacobian).
-#[derive(Clone, Copy, Debug)]
-pub struct Row<T: nalgebra::Scalar = f64> {
-    pub(crate) parent: usize,
-    pub(crate) child: usize,
-    /// Coefficients of the parent's (v, ω) and the child's (v, ω), N components.
-    pub(crate) lin_p: Vector3<T>,
-    pub(crate) ang_p: Vector3<T>,
-    pub(crate) lin_c: Vector3<T>,
-    pub(crate) ang_c: Vector3<T>,
-    /// Velocity-product term γ (the coordinate's acceleration at zero body accelerations).
-    pub(crate) gamma: T,
-    /// Coordinate minus target.
-    error: T,
-    /// Coordinate rate `J V`.
-    rate: T,
-}
-
-/// Euler-angle index (in (yaw, pitch, roll)) of rotational direction 3, 4, 5.
-pub(crate) fn euler_index(direction: usize) -> usize {
-    match direction {
-        3 => 2, // rx = roll θ3
-        4 => 1, // ry = pitch θ2
-        _ => 0, // rz = yaw θ1
-    }
-}
-
-/// Rows of `B(θ)⁻¹` (so `θ̇ = B⁻¹ ω`) and `Ḃ θ̇` for the rates `theta_rate`.
-fn euler_rows<T: Real>(trig: &EulerTrig<T>, theta_rate: &Vector3<T>) -> ([Vector3<T>; 3], Vector3<T>) {
-    let EulerTrig { s2, c2, s3, c3 } = *trig;
-    let (zero, one) = (real::<T>(0.0), real::<T>(1.0));
-    let b_inv = [
-        Vector3::new(zero, s3 / c2, c3 / c2),
-        Vector3::new(zero, c3, -s3),
-        Vector3::new(one, s2 * s3 / c2, s2 * c3 / c2),
-    ];
-    // B = [[−s2, 0, 1], [s3 c2, c3, 0], [c3 c2, −s3, 0]], so with θ̇ = (r1, r2, r3),
-    // Ḃ θ̇ = r2 ∂B/∂θ2 θ̇ + r3 ∂B/∂θ3 θ̇ with ∂B/∂θ2 = [[−c2, 0, 0], [−s3 s2, 0, 0],
-    // [−c3 s2, 0, 0]] and ∂B/∂θ3 = [[0, 0, 0], [c3 c2, −s3, 0], [−s3 c2, −c3, 0]].
-    let (r1, r2, r3) = (theta_rate.x, theta_rate.y, theta_rate.z);
-    let r12 = r1 * r2;
-    let b_dot_rate = Vector3::new(
-        -c2 * r12,
-        -s3 * s2 * r12 + r3 * (c3 * c2 * r1 - s3 * r2),
-        -c3 * s2 * r12 - r3 * (s3 * c2 * r1 + c3 * r2),
-    );
-    (b_inv, b_dot_rate)
-}
-
-/// Constraint rows of every lock at body motions `motions`, with the hinges' continuous
-/// angle references `refs`. `locks` are grouped by hinge (as [`crate::dynamics::Dynamics`]
-/// keeps them).
-pub fn rows(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: &[Euler321]) -> Vec<Row> {
-    let mut out = Vec::with_capacity(locks.len());
-    for group in locks.chunk_by(|a, b| a.hinge == b.hinge) {
-        let i = group[0].hinge;
-        let h = &model.hinges[i];
-        let (p, c) = (&motions[h.parent], &motions[h.child]);
-        hinge_rows(h, group, p, c, &hinge_kinematics(h, p, c, &refs[i]), &mut out);
-    }
-    out
-}
+use super::rows::{Lock, Row, rows};
+use crate::math::{Euler321, Vec3};
+use crate::model::Model;
+use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, VEL};
 
 /// A row's part on one body in that body's twist components (linear: N, angular: body, as
 /// the state's `(v, ω)` and their derivatives are stored): its coefficients, and `M⁻¹ Jᵀ`,
@@ -115,79 +28,6 @@ fn twist6(y: &[f64], b: usize) -> &[f64; 6] {
     const { assert!(OMEGA == VEL + 3) };
     let o = BODY_STATE_LEN * b + VEL;
     y[o..o + 6].try_into().expect("six components")
-}
-
-/// Appends to `out` the rows of `locks`, all of hinge `h`, from the hinge's kinematics `k`
-/// and its parent's and child's motions `p`, `c`.
-#[inline]
-pub fn hinge_rows<T: Real>(
-    h: &Hinge,
-    locks: &[Lock],
-    p: &BodyMotion<T>,
-    c: &BodyMotion<T>,
-    k: &HingeKinematics<T>,
-    out: &mut Vec<Row<T>>,
-) {
-    let (a_p, a_c) = (k.arm_parent_in_n, k.arm_child_in_n);
-    let (w_p, w_c) = (p.omega_in_n, c.omega_in_n);
-    // The Euler-rate data shared by the hinge's rotational locks, and the velocity-product
-    // acceleration of A relative to the parent shared by its translational ones (γ = u · g),
-    // each computed once.
-    // (rows of B⁻¹, θ̇, and the velocity-product part −ω_c^A × ω_rel − Ḃ θ̇ that every
-    // rotational row dots with its row of B⁻¹)
-    type EulerRates<T> = ([Vector3<T>; 3], Vector3<T>, Vector3<T>);
-    let mut euler: Option<EulerRates<T>> = None;
-    let mut relative: Option<Vector3<T>> = None;
-    for lock in locks {
-        let zero = real::<T>(0.0);
-        // Filled in place: building the row and pushing it costs a copy of it.
-        out.push(Row {
-            parent: h.parent,
-            child: h.child,
-            lin_p: Vector3::zeros(),
-            ang_p: Vector3::zeros(),
-            lin_c: Vector3::zeros(),
-            ang_c: Vector3::zeros(),
-            gamma: zero,
-            error: zero,
-            rate: zero,
-        });
-        let row = out.last_mut().expect("just pushed");
-        if lock.direction < 3 {
-            // δ̇ = [A0 N] w, w = v_A − v_p − ω_p × a_p, v_A = v_c + ω_c × a_c.
-            let u = k.dcm_n_a0.column(lock.direction).into_owned();
-            row.lin_c = u;
-            row.ang_c = a_c.cross(&u);
-            row.lin_p = -u;
-            row.ang_p = -a_p.cross(&u);
-            let g = *relative.get_or_insert_with(|| {
-                let v_a = c.v_in_n + w_c.cross(&a_c);
-                let w = v_a - p.v_in_n - w_p.cross(&a_p);
-                w_c.cross(&w_c.cross(&a_c)) - w_p.cross(&(v_a - p.v_in_n)) - w_p.cross(&w)
-            });
-            row.gamma = u.dot(&g);
-            row.error = k.state.delta_in_a0[lock.direction] - real::<T>(lock.target);
-            row.rate = k.state.delta_rate_in_a0[lock.direction];
-        } else {
-            // θ̇_j = b_j · ω_rel, ω_rel = [A N](ω_c − ω_p);
-            // θ̈_j = b_j · ([A N](α_c − α_p) − ω_c^A × ω_rel − Ḃ θ̇).
-            let j = euler_index(lock.direction);
-            let theta = k.state.theta;
-            let w_rel = k.state.omega_rel_in_a;
-            let (b_inv, theta_rate, product) = *euler.get_or_insert_with(|| {
-                let tr = k.state.trig.rates_from_omega(&w_rel);
-                let (b, bd) = euler_rows(&k.state.trig, &tr);
-                let w_c_in_a = k.dcm_n_a.tr_mul(&w_c);
-                (b, tr, -w_c_in_a.cross(&w_rel) - bd)
-            });
-            let n = k.dcm_n_a * b_inv[j];
-            row.ang_c = n;
-            row.ang_p = -n;
-            row.gamma = b_inv[j].dot(&product);
-            row.error = theta.as_vector()[j] - real::<T>(lock.target);
-            row.rate = theta_rate[j];
-        }
-    }
 }
 
 /// Work space for the multiplier solves, reused across evaluations.
@@ -239,9 +79,9 @@ pub struct Workspace {
     /// eliminating along it is the cheaper solve.
     forest: Option<Forest>,
     /// Per body: the correction `Δ = M⁻¹ Jᵀ λ` of the last solve, components as for `z`.
-    delta: Vec<[f64; 6]>,
+    pub(super) delta: Vec<[f64; 6]>,
     /// Bodies that locked hinges join.
-    touched: Vec<usize>,
+    pub(super) touched: Vec<usize>,
 }
 
 /// A 6×6 block, row-major.
@@ -477,7 +317,7 @@ impl Workspace {
 
     /// Forms the rows' body components and `M⁻¹ Jᵀ` for `rows` at `motions`, and the
     /// structure of the solve when the set of locked hinges changed.
-    fn prepare(&mut self, model: &Model, rows: &[Row], motions: &[BodyMotion]) {
+    pub(super) fn prepare(&mut self, model: &Model, rows: &[Row], motions: &[BodyMotion]) {
         let bodies = &model.bodies;
         // Per row and side: the coefficients in body components and M⁻¹ Jᵀ.
         // Filled in place: pushing the 192-byte parts costs a copy each.
@@ -712,7 +552,7 @@ impl Workspace {
     /// The smallest mass-weighted correction `Δ = M⁻¹ Jᵀ λ` with `J Δ = −residual` (one
     /// residual per row of `rows`, after [`Self::prepare`]), into `self.delta` for the
     /// bodies in `self.touched`. Returns false if the locks are redundant here.
-    fn correct(&mut self, model: &Model, rows: &[Row], residual: &[f64]) -> bool {
+    pub(super) fn correct(&mut self, model: &Model, rows: &[Row], residual: &[f64]) -> bool {
         if self.delta.len() < model.bodies.len() {
             self.delta.resize(model.bodies.len(), [0.0; 6]);
         }
@@ -860,243 +700,5 @@ pub fn independent(model: &Model, locks: &[Lock], motions: &[BodyMotion], refs: 
     work.correct(model, &rows, &vec![0.0; rows.len()])
 }
 
-/// Drift of a locked coordinate (m or rad) or of its rate (m/s or rad/s) beyond which the
-/// state is projected ([`project`]) or a disengaged lock engaged. Well below the 1e-9 the
-/// locks promise, and rarely reached at tight tolerances, so the integration is seldom
-/// restarted.
-pub const DRIFT_LIMIT: f64 = 1e-11;
-
-/// Whether a locked coordinate or its rate has drifted beyond [`DRIFT_LIMIT`] at state `y`
-/// (`locks` grouped by hinge).
-pub fn drifted(model: &Model, locks: &[Lock], refs: &[Euler321], y: &[f64]) -> bool {
-    locks.chunk_by(|a, b| a.hinge == b.hinge).any(|group| drift_mask(model, group, refs, y) != 0)
-}
-
-/// Which of `group`'s locks (all of one hinge, so at most six) have drifted beyond
-/// [`DRIFT_LIMIT`] in coordinate or rate at state `y`: bit k for `group[k]`. Checked after
-/// every step, so from the hinge's kinematics alone (no rows, no allocation), and without
-/// angles when only translations are locked.
-pub fn drift_mask(model: &Model, group: &[Lock], refs: &[Euler321], y: &[f64]) -> u8 {
-    let i = group[0].hinge;
-    let h = &model.hinges[i];
-    let (p, c) = (BodyMotion::from_state(y, h.parent), BodyMotion::from_state(y, h.child));
-    let mask = |beyond: &dyn Fn(&Lock) -> bool| {
-        group.iter().enumerate().fold(0u8, |m, (k, lock)| if beyond(lock) { m | (1 << k) } else { m })
-    };
-    let beyond =
-        |value: f64, lock: &Lock, rate: f64| (value - lock.target).abs() > DRIFT_LIMIT || rate.abs() > DRIFT_LIMIT;
-    if group.iter().all(|lock| lock.direction < 3) {
-        let t = hinge_translation(h, &p, &c);
-        return mask(&|l| beyond(t.delta_in_a0[l.direction], l, t.delta_rate_in_a0[l.direction]));
-    }
-    let k = hinge_kinematics(h, &p, &c, &refs[i]);
-    let theta_rate = k.state.trig.rates_from_omega(&k.state.omega_rel_in_a);
-    mask(&|l| {
-        if l.direction < 3 {
-            beyond(k.state.delta_in_a0[l.direction], l, k.state.delta_rate_in_a0[l.direction])
-        } else {
-            let j = euler_index(l.direction);
-            beyond(k.state.theta.as_vector()[j], l, theta_rate[j])
-        }
-    })
-}
-
-/// Projects the state onto the constraint manifold of `locks`: two mass-weighted Newton
-/// corrections of the poses, then one of the velocities (the caller decides when, see
-/// [`drifted`]). Stops early if the locks are redundant there.
-pub fn project(model: &Model, locks: &[Lock], refs: &[Euler321], y: &mut [f64]) {
-    let nb = model.bodies.len();
-    let motions = |y: &[f64]| (0..nb).map(|i| BodyMotion::from_state(y, i)).collect::<Vec<_>>();
-    let mut work = Workspace::default();
-    for _ in 0..2 {
-        let m = motions(y);
-        let rows = rows(model, locks, &m, refs);
-        work.prepare(model, &rows, &m);
-        let errors: Vec<f64> = rows.iter().map(|r| r.error).collect();
-        if !work.correct(model, &rows, &errors) {
-            return;
-        }
-        for &i in &work.touched {
-            let d = &work.delta[i];
-            let s = &mut y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
-            for k in 0..3 {
-                s[POS + k] += d[k];
-            }
-            // q ← exp(δφ/2) ⊗ q with δφ in N components (a left rotation).
-            let dphi = m[i].dcm_n_b * Vec3::new(d[3], d[4], d[5]);
-            let angle = dphi.norm();
-            if angle > 0.0 {
-                let axis = dphi / angle;
-                let (sh, ch) = (0.5 * angle).sin_cos();
-                let dq = nalgebra::Quaternion::new(ch, sh * axis.x, sh * axis.y, sh * axis.z);
-                let q = nalgebra::Quaternion::new(s[QUAT], s[QUAT + 1], s[QUAT + 2], s[QUAT + 3]);
-                let r = dq * q;
-                s[QUAT..QUAT + 4].copy_from_slice(&[r.w, r.i, r.j, r.k]);
-            }
-        }
-    }
-    // Velocities: remove J V.
-    let m = motions(y);
-    let rows = rows(model, locks, &m, refs);
-    work.prepare(model, &rows, &m);
-    let rates: Vec<f64> = rows.iter().map(|r| r.rate).collect();
-    if work.correct(model, &rows, &rates) {
-        for &i in &work.touched {
-            let d = &work.delta[i];
-            let s = &mut y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
-            for k in 0..3 {
-                s[VEL + k] += d[k];
-                s[OMEGA + k] += d[3 + k];
-            }
-        }
-    }
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::{DMatrix, DVector};
-
-    /// Elimination along the forest, the dense solve of `J M⁻¹ Jᵀ` on the stack and its
-    /// envelope solve give the same correction and multipliers (to 1e-12 of their size: all
-    /// are direct solves of well-conditioned systems, and a wrong term in any would be off by
-    /// O(1)), on a chain (the z-fold example with x, z and ry locked: inner bodies with
-    /// locked hinges further out, and a leaf) and a star (the 1-DOF example: two leaves on
-    /// the hub, five locks each).
-    #[test]
-    fn forest_dense_and_envelope_solves_agree() {
-        use crate::dynamics::Dynamics;
-        use crate::init::initial_state;
-        let zfold = crate::scenario::example_with("zfold-tape-latch.toml", &["x", "z", "ry"], "\"locked\"");
-        let one_dof = crate::scenario::example_with("hinged-panels-1dof.toml", &[], "");
-        for (s, chain) in [(zfold, true), (one_dof, false)] {
-            let (y, refs) = initial_state(&s.model, &s.initial);
-            let dynamics = Dynamics::new(&s.model, refs);
-            dynamics.initialize_memory(&y);
-            let nb = s.model.bodies.len();
-            let motions: Vec<BodyMotion> = (0..nb).map(|i| BodyMotion::from_state(&y, i)).collect();
-            let rows = rows(&s.model, &dynamics.locks(), &motions, &dynamics.theta_refs());
-            let residual: Vec<f64> = (0..rows.len()).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-            let mut work = Workspace::default();
-            work.prepare(&s.model, &rows, &motions);
-            let f = forest(&work.structure, nb).expect("the locked hinges form a tree");
-            assert_eq!(f.leaf.iter().all(|l| *l), !chain);
-            work.forest = Some(f);
-            assert!(work.correct(&s.model, &rows, &residual));
-            let by_forest = work.delta.clone();
-            work.forest = None;
-            assert!(rows.len() <= SMALL, "solved dense on the stack");
-            assert!(work.correct(&s.model, &rows, &residual));
-            let scale = work.delta.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-            let diff = by_forest
-                .iter()
-                .flatten()
-                .zip(work.delta.iter().flatten())
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            assert!(scale > 0.0 && diff <= 1e-12 * scale, "forest vs dense: {diff:e} of {scale:e}");
-            // The envelope solve (used above SMALL rows) gives the dense solve's multipliers.
-            let dense = work.lambda.clone();
-            work.envelope_terms(&rows);
-            work.lambda = residual.iter().map(|r| -r).collect();
-            assert!(work.factor_envelope());
-            work.solve();
-            let scale = dense.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let diff = dense.iter().zip(&work.lambda).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            assert!(scale > 0.0 && diff <= 1e-12 * scale, "envelope vs dense: {diff:e} of {scale:e}");
-        }
-    }
-
-    /// A lock the free accelerations already satisfy is not solved for, and one they miss by
-    /// a tiny amount is. The z-fold example with z locked, folded at rest: the tape springs'
-    /// moments act in the plane, so the out-of-plane locks carry nothing (residuals exactly
-    /// zero), and the structure of the solve is never even built. With one panel given an
-    /// out-of-plane rate of 1e-9 rad/s, the residuals are ~1.7e-10 m/s², all of the size of
-    /// their own terms, so the locks are solved for (an absolute threshold of 1e-9 would skip
-    /// them, and fails this test), and the corrected accelerations satisfy them to 1e-14 of
-    /// the terms (round-off: measured 1.0e-15).
-    #[test]
-    fn idle_locks_are_not_solved_for() {
-        use crate::dynamics::Dynamics;
-        use crate::init::initial_state;
-        let locked = crate::scenario::example_with("zfold-tape-latch.toml", &["z"], "\"locked\"");
-        let free = crate::scenario::example_with("zfold-tape-latch.toml", &["z"], "\"free\"");
-        let (mut y, refs) = initial_state(&locked.model, &locked.initial);
-        let nb = locked.model.bodies.len();
-        for tilted in [false, true] {
-            if tilted {
-                y[BODY_STATE_LEN * 2 + OMEGA] = 1e-9;
-            }
-            let locking = Dynamics::new(&locked.model, refs.clone());
-            locking.initialize_memory(&y);
-            let unlocked = Dynamics::new(&free.model, refs.clone());
-            unlocked.initialize_memory(&y);
-            let mut dydt = vec![0.0; y.len()];
-            unlocked.rhs(&y, &mut dydt);
-            let dydt_free = dydt.clone();
-            let motions: Vec<BodyMotion> = (0..nb).map(|i| BodyMotion::from_state(&y, i)).collect();
-            let rows = rows(&locked.model, &locking.locks(), &motions, &locking.theta_refs());
-            let mut work = Workspace::default();
-            assert!(constrain_accelerations(&locked.model, &rows, &motions, &mut dydt, &mut work));
-            let largest = work.multipliers().iter().fold(0.0f64, |m, l| m.max(l.abs()));
-            if !tilted {
-                assert!(work.parts.is_empty(), "the solve was set up for idle locks");
-                assert_eq!(largest, 0.0);
-                assert_eq!(dydt, dydt_free);
-                continue;
-            }
-            assert!(!work.parts.is_empty() && largest > 0.0, "locks missed by 1.7e-10 m/s² were not solved for");
-            for r in &rows {
-                let (p, c) = (twist6(&dydt, r.parent), twist6(&dydt, r.child));
-                let (alpha_p, alpha_c) = (
-                    motions[r.parent].dcm_n_b * Vec3::new(p[3], p[4], p[5]),
-                    motions[r.child].dcm_n_b * Vec3::new(c[3], c[4], c[5]),
-                );
-                let terms = [
-                    r.gamma,
-                    r.lin_p.dot(&Vec3::new(p[0], p[1], p[2])),
-                    r.ang_p.dot(&alpha_p),
-                    r.lin_c.dot(&Vec3::new(c[0], c[1], c[2])),
-                    r.ang_c.dot(&alpha_c),
-                ];
-                let (value, scale) = (terms.iter().sum::<f64>(), terms.iter().map(|t| t.abs()).sum::<f64>());
-                assert!(value.abs() <= 1e-14 * scale.max(1e-300), "residual {value:e} of {scale:e}");
-            }
-        }
-    }
-
-    /// The envelope Cholesky solve equals a dense solve on an SPD matrix with a staircase
-    /// envelope (rows zero left of `first`), like a chain of locked hinges'.
-    #[test]
-    fn envelope_cholesky_matches_dense() {
-        let n = 9;
-        let first = [0, 0, 0, 1, 1, 3, 3, 3, 6];
-        // A = B Bᵀ + n I with B lower-banded inside the envelope: SPD, and zero outside.
-        let b = DMatrix::from_fn(
-            n,
-            n,
-            |i, j| if j <= i && j >= first[i] { 1.0 + ((i * 7 + j * 3) % 5) as f64 } else { 0.0 },
-        );
-        let mut dense = &b * b.transpose() + DMatrix::identity(n, n) * n as f64;
-        for i in 0..n {
-            for j in 0..first[i] {
-                dense[(i, j)] = 0.0;
-                dense[(j, i)] = 0.0;
-            }
-        }
-        let rhs = DVector::from_fn(n, |i, _| (i as f64).sin());
-        let expected = dense.clone().cholesky().expect("SPD").solve(&rhs);
-        let mut w = Workspace::default();
-        for i in 0..n {
-            w.first.push(first[i]);
-            w.offset.push(w.matrix.len());
-            for j in first[i]..=i {
-                w.matrix.push(dense[(i, j)]);
-            }
-        }
-        assert!(w.cholesky());
-        w.lambda = rhs.iter().copied().collect();
-        w.solve();
-        let err = w.lambda.iter().zip(expected.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        assert!(err < 1e-14, "{err}");
-    }
-}
+mod tests;

@@ -1,177 +1,17 @@
-//! Time integration and output streaming.
-//!
-//! The explicit methods are in [`crate::ode`] (DOP853 and Dormand–Prince 5(4) with dense
-//! output, classical RK4 with a fixed step). Output rows are
-//! produced from the dense output at each output time and handed to a sink as they are made,
-//! so memory does not grow with the length of a run.
+//! A run: the integrator, output rows at the output times from its dense output, located
+//! law events, lock engagement, momentum restoration, and the conservation figures.
 
+use super::report::{Drift, RunReport, SimError};
+use super::settings::{Integrator, RunSettings};
+use crate::dynamics::newton::GraphNewton;
 use crate::dynamics::{Dynamics, LawEvent};
-use crate::implicit::integrate_sdirk4;
-use crate::init::{InitialConditions, initial_state};
+use crate::integrate::{Control, Method, OdeError, Step, integrate, integrate_sdirk4};
+use crate::kinematics::{InitialConditions, initial_state};
 use crate::law::EventKind;
 use crate::model::Model;
 use crate::observe::{Observation, Observer};
-use crate::ode::{Control, Method, OdeError, Step, integrate};
-use crate::sparse::GraphNewton;
 use crate::state::BODY_STATE_LEN;
 use std::time::Instant;
-use thiserror::Error;
-
-/// Time integration method.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Integrator {
-    /// Dormand–Prince 8(5,3), adaptive, 7th-order dense output.
-    Dop853 {
-        /// Relative tolerance per state component.
-        rtol: f64,
-        /// Absolute tolerance per state component (m, m/s, rad/s, quaternion units).
-        atol: f64,
-    },
-    /// Dormand–Prince 5(4), adaptive, 4th-order dense output.
-    Dopri5 {
-        /// Relative tolerance per state component.
-        rtol: f64,
-        /// Absolute tolerance per state component.
-        atol: f64,
-    },
-    /// SDIRK4, L-stable implicit (for stiff hinges), adaptive, with the hinge-graph-sparse
-    /// Newton matrix of [`crate::sparse`]; cubic Hermite dense output.
-    Sdirk4 {
-        /// Relative tolerance per component.
-        rtol: f64,
-        /// Absolute tolerance per component.
-        atol: f64,
-    },
-    /// Classical fourth-order Runge–Kutta with a fixed step.
-    Rk4 {
-        /// Step, s.
-        step: f64,
-    },
-}
-
-impl Integrator {
-    /// Name as written in scenario files.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Integrator::Dop853 { .. } => "dop853",
-            Integrator::Dopri5 { .. } => "dopri5",
-            Integrator::Sdirk4 { .. } => "sdirk4",
-            Integrator::Rk4 { .. } => "rk4",
-        }
-    }
-}
-
-/// How long to run and how often to output.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RunSettings {
-    /// Simulated time, s (> 0).
-    pub duration: f64,
-    /// Interval between output rows, s (> 0). Rows are at `k · output_step` and at `duration`.
-    pub output_step: f64,
-    /// Integration method.
-    pub integrator: Integrator,
-    /// Solve for every lock from the start, rather than engaging each once it carries load
-    /// (see [`crate::dynamics::Dynamics::disengage_locks`]): the same motion at a higher
-    /// cost, for comparison. Not a scenario key; false from a scenario.
-    pub engage_locks_at_start: bool,
-}
-
-/// Largest departures from the initial values over all output rows.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Drift {
-    /// max |P(t) − P(0)|, kg·m/s.
-    pub momentum: f64,
-    /// max Σ m_i |Ṙ_i| over the run, kg·m/s (scale for a relative figure).
-    pub momentum_scale: f64,
-    /// max |H(t) − H(0)|, kg·m²/s.
-    pub angular_momentum: f64,
-    /// max Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|) over the run, kg·m²/s.
-    pub angular_momentum_scale: f64,
-    /// max |R_c(t) − R_c(0)|, m.
-    pub barycenter: f64,
-    /// max |E(t) − E(0)|, J.
-    pub energy: f64,
-    /// E(0), J.
-    pub energy_initial: f64,
-    /// E at the last row minus E(0), J.
-    pub energy_final_change: f64,
-    /// Energy dissipated by the hinges by the last row, J.
-    pub dissipated: f64,
-    /// max |(E + D)(t) − (E + D)(0)|: the energy balance, J.
-    pub energy_balance: f64,
-    /// Number of locked directions.
-    pub locks: usize,
-    /// max |δ_k(t) − δ_k(0)| over the output rows and the locked translations, m (A0
-    /// components).
-    pub locked_translation: f64,
-    /// max |θ_k(t) − θ_k(0)| over the output rows and the locked rotations, rad (3-2-1 Euler
-    /// angles of `[A A0]`).
-    pub locked_rotation: f64,
-}
-
-/// What a finished run reports.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunReport {
-    /// Simulated time, s.
-    pub simulated: f64,
-    /// Wall-clock time of the integration, s.
-    pub wall_seconds: f64,
-    /// Accepted steps.
-    pub steps_accepted: usize,
-    /// Rejected steps.
-    pub steps_rejected: usize,
-    /// Right-hand-side evaluations.
-    pub rhs_evaluations: u64,
-    /// Output rows written.
-    pub rows: usize,
-    /// Conservation figures.
-    pub drift: Drift,
-    /// True if every hinge law conserves E (so `drift.energy` should be small).
-    pub energy_conserving: bool,
-    /// Located stop and latch events (contacts, releases, latches), in time order.
-    pub events: Vec<LawEvent>,
-    /// First time at which the explicit integrator found its step limited by stability (stiff
-    /// hinges), if it did.
-    pub stiff_from: Option<f64>,
-    /// Newton iterations (implicit path; zero otherwise).
-    pub newton_iterations: usize,
-    /// Jacobians formed (implicit path).
-    pub jacobians: usize,
-    /// Of those, formed by finite differences because the exact (dual-number) Jacobian does
-    /// not cover the model (a hinge law without a dual form; none of the shipped laws).
-    pub differenced_jacobians: usize,
-    /// Number of other located law events (hysteresis branch changes, table data points
-    /// crossed): counted, not kept, so memory stays flat in run length.
-    pub branch_events: usize,
-    /// Per hinge: energy dissipated over the run, J.
-    pub hinge_dissipated: Vec<f64>,
-    /// Of `rhs_evaluations`, those that solved for engaged locks.
-    pub constrained_evaluations: u64,
-    /// Locks that engaged (carried load), with the time from which they were solved for
-    /// (s), in time order. A run starts with every lock disengaged: a locked direction with
-    /// no load keeps its value without a constraint force, and is checked after every step;
-    /// once it drifts, it engages and the step is retaken with it.
-    pub lock_engagements: Vec<(crate::constraints::Lock, f64)>,
-}
-
-/// Why a run stopped early.
-#[derive(Debug, Error)]
-pub enum SimError {
-    /// The integrator gave up.
-    #[error("integration failed at t = {t} s: {message}")]
-    Integrator {
-        /// Time reached, s.
-        t: f64,
-        /// Reason.
-        message: String,
-    },
-    /// The physics left the model's domain (e.g. gimbal lock of a hinge's Euler angles).
-    #[error("{0}")]
-    Physics(String),
-    /// The output sink failed.
-    #[error("writing output: {0}")]
-    Output(String),
-}
 
 /// Receives output rows in time order.
 pub trait Sink {
@@ -205,7 +45,7 @@ struct StreamOut<'d, 'm, 's, 'p> {
     g_change: Vec<f64>,
     events: Vec<LawEvent>,
     branch_events: usize,
-    lock_engagements: Vec<(crate::constraints::Lock, f64)>,
+    lock_engagements: Vec<(crate::dynamics::locks::Lock, f64)>,
     /// Time of the last event and how many events happened at exactly that time.
     same_instant: (f64, usize),
     /// An event located inside the last step, which the integrator is retaking to end there.
@@ -270,7 +110,7 @@ impl StreamOut<'_, '_, '_, '_> {
                 let q = o.hinge_delta_in_a0[lock.hinge][lock.direction];
                 d.locked_translation = d.locked_translation.max((q - lock.target).abs());
             } else {
-                let q = o.hinge_theta[lock.hinge].as_vector()[crate::constraints::euler_index(lock.direction)];
+                let q = o.hinge_theta[lock.hinge].as_vector()[crate::dynamics::locks::euler_index(lock.direction)];
                 d.locked_rotation = d.locked_rotation.max((q - lock.target).abs());
             }
         }

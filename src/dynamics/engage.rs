@@ -1,0 +1,123 @@
+//! Which locks are solved for: a run engages a lock once it carries load (drifts while
+//! free), projects the state onto the engaged locks, and reads their multipliers.
+
+use super::Dynamics;
+use super::locks::{Lock, drift_mask, drifted, independent, project};
+use crate::state::BodyMotion;
+
+impl Dynamics<'_> {
+    /// Sets which locks are engaged, and the list of engaged locks from it.
+    pub(super) fn set_engaged(&self, engaged: Vec<bool>) {
+        let locks = self.locks.borrow();
+        let mut active = self.active.borrow_mut();
+        let (list, ranges) = &mut *active;
+        list.clear();
+        ranges.iter_mut().for_each(|r| *r = 0..0);
+        for group in locks.chunk_by(|a, b| a.hinge == b.hinge) {
+            let first = list.len();
+            let offset = self.lock_ranges.borrow()[group[0].hinge].start;
+            list.extend(group.iter().enumerate().filter(|(k, _)| engaged[offset + k]).map(|(_, l)| *l));
+            ranges[group[0].hinge] = first..list.len();
+        }
+        *self.engaged.borrow_mut() = engaged;
+    }
+
+    /// Disengages every lock: the right-hand side then leaves the locked directions free
+    /// (they have no law) until [`Self::engage_drifted_locks`] engages them. A direction that
+    /// carries no load keeps its value without a constraint force, so a run that starts with
+    /// its locks disengaged and engages each once it drifts follows the locks at the cost of
+    /// a drift check per step.
+    pub fn disengage_locks(&self) {
+        let n = self.locks.borrow().len();
+        self.set_engaged(vec![false; n]);
+    }
+
+    /// Engages every disengaged lock whose coordinate or rate has drifted beyond
+    /// [`crate::dynamics::locks::DRIFT_LIMIT`] at `y`. Returns those locks (indices into
+    /// [`Self::locks`]).
+    pub fn engage_drifted_locks(&self, y: &[f64]) -> Vec<usize> {
+        let mut out = Vec::new();
+        if self.active.borrow().0.len() == self.locks.borrow().len() {
+            // Every lock engaged, or none locked (this runs after every step).
+            return out;
+        }
+        {
+            let locks = self.locks.borrow();
+            let ranges = self.lock_ranges.borrow();
+            let refs = self.theta_refs.borrow();
+            let engaged = self.engaged.borrow();
+            for range in ranges.iter().filter(|r| engaged[(*r).clone()].contains(&false)) {
+                let moved = drift_mask(self.model, &locks[range.clone()], &refs, y);
+                out.extend(range.clone().filter(|&k| !engaged[k] && moved & (1 << (k - range.start)) != 0));
+            }
+        }
+        if !out.is_empty() {
+            let mut engaged = self.engaged.borrow().clone();
+            out.iter().for_each(|&k| engaged[k] = true);
+            self.set_engaged(engaged);
+        }
+        out
+    }
+
+    /// Per lock (as in [`Self::locks`]): whether it is engaged (see
+    /// [`Self::disengage_locks`]).
+    pub fn engaged_locks(&self) -> std::cell::Ref<'_, Vec<bool>> {
+        self.engaged.borrow()
+    }
+
+    /// Checks that the locked directions are independent at `y`.
+    pub fn check_locks(&self, y: &[f64]) -> Result<(), String> {
+        let locks = self.locks.borrow();
+        if locks.is_empty() {
+            return Ok(());
+        }
+        let motions: Vec<BodyMotion> = (0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
+        if independent(self.model, &locks, &motions, &self.theta_refs.borrow()) {
+            Ok(())
+        } else {
+            Err("the locked hinge directions are redundant (for example a closed loop of locked hinges): unlock one direction of the loop".into())
+        }
+    }
+
+    /// The locked directions, grouped by hinge.
+    pub fn locks(&self) -> std::cell::Ref<'_, Vec<Lock>> {
+        self.locks.borrow()
+    }
+
+    /// Whether any direction is locked.
+    pub fn has_locks(&self) -> bool {
+        !self.locks.borrow().is_empty()
+    }
+
+    /// Projects `y` onto the engaged locks' constraints (positions, then velocities) if one
+    /// has drifted (see [`crate::dynamics::locks::project()`]), or onto every lock's with `force`.
+    /// Disengaged locks are left alone: a drift of theirs engages them instead
+    /// ([`Self::engage_drifted_locks`], after every step). Returns whether `y` changed.
+    pub fn project(&self, y: &mut [f64], force: bool) -> bool {
+        let refs = self.theta_refs.borrow();
+        let (all, active) = (self.locks.borrow(), self.active.borrow());
+        let locks = if force { &*all } else { &active.0 };
+        if locks.is_empty() || !(force || drifted(self.model, locks, &refs, y)) {
+            return false;
+        }
+        project(self.model, locks, &refs, y);
+        true
+    }
+
+    /// The state derivative at `y` and the locks' multipliers there (one per lock, in the
+    /// order of [`Self::locks`]; the constraint wrench is `Jᵀ λ`; zero for disengaged locks).
+    pub fn rhs_and_multipliers(&self, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let mut dydt = vec![0.0; y.len()];
+        self.rhs(y, &mut dydt);
+        let engaged = self.engaged.borrow();
+        let scratch = self.scratch.borrow();
+        // The solve's multipliers are the engaged locks', in order (none when no lock is
+        // engaged: then they are left from an earlier evaluation; and none after a failed
+        // solve).
+        let mut solved = scratch.work.multipliers().iter();
+        let any = engaged.iter().any(|e| *e);
+        let lambda =
+            engaged.iter().map(|&e| if e && any { solved.next().copied().unwrap_or(0.0) } else { 0.0 }).collect();
+        (dydt, lambda)
+    }
+}

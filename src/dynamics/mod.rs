@@ -1,0 +1,284 @@
+//! Equations of motion: Newton–Euler for every body, hinges as wrench pairs (DESIGN.md §1).
+//!
+//! One right-hand-side evaluation walks the bodies once and the hinges once: O(bodies +
+//! hinges). The hinge wrench of MODEL.md §4 (paper eq. 14) is applied exactly: with
+//! `F_N = [N A0] F` and `τ_N = [N A] τ`, the child receives `−F_N` at A's origin and `−τ_N`,
+//! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
+//! eq. 14 and conserves linear and angular momentum for any law.
+
+pub mod engage;
+pub mod events;
+pub mod jacobian;
+pub mod locks;
+pub mod momentum;
+pub mod newton;
+
+use crate::kinematics::{HingeKinematics, hinge_kinematics};
+use crate::law::{EventKind, HingeWrench, LawMemory};
+use crate::math::{Euler321, Vec3, quat_rate};
+use crate::model::Model;
+use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
+use locks::{Lock, Row, Workspace, constrain_accelerations, euler_index, hinge_rows};
+use std::cell::{Cell, RefCell};
+
+/// Per-evaluation work space, kept to avoid allocating in the right-hand side.
+#[derive(Debug, Default)]
+struct Scratch {
+    motions: Vec<BodyMotion>,
+    force_in_n: Vec<Vec3>,
+    torque_in_n: Vec<Vec3>,
+    /// The locks' constraint rows at this state.
+    rows: Vec<Row>,
+    work: Workspace,
+}
+
+/// The equations of motion of a model, with the per-run memory of its hinges: the
+/// continuous-angle references and the laws' discrete memory.
+///
+/// The state vector holds the bodies (see [`crate::state`]) and then, per hinge, the energy
+/// it has dissipated since the start, J (the integral of
+/// [`crate::law::HingeLaw::dissipation_power`]).
+#[derive(Debug)]
+pub struct Dynamics<'m> {
+    model: &'m Model,
+    theta_refs: RefCell<Vec<Euler321>>,
+    memories: RefCell<Vec<LawMemory>>,
+    /// Locked directions, grouped by hinge in hinge order.
+    locks: RefCell<Vec<Lock>>,
+    /// Per hinge: its locks' index range in `locks` (empty if none).
+    lock_ranges: RefCell<Vec<std::ops::Range<usize>>>,
+    /// Per lock (as in `locks`): whether it is engaged, that is solved for in the
+    /// right-hand side. A run starts with every lock disengaged and engages each once it
+    /// drifts (see [`Self::engage_drifted_locks`]): a lock that never carries load costs a
+    /// drift check per step and nothing per evaluation.
+    engaged: RefCell<Vec<bool>>,
+    /// The engaged locks (grouped by hinge in hinge order), and per hinge their range there.
+    active: RefCell<(Vec<Lock>, Vec<std::ops::Range<usize>>)>,
+    event_offsets: Vec<usize>,
+    scratch: RefCell<Scratch>,
+    evaluations: Cell<u64>,
+    /// Of those, evaluations that solved for engaged locks (had constraint rows).
+    constrained_evaluations: Cell<u64>,
+}
+
+/// A discrete change of a hinge law's memory, located in time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LawEvent {
+    /// Time, s.
+    pub t: f64,
+    /// Hinge index.
+    pub hinge: usize,
+    /// Kind of change.
+    pub kind: EventKind,
+    /// What happened, from the law.
+    pub description: String,
+    /// Energy the hinge had dissipated up to the event, J.
+    pub hinge_dissipated: f64,
+}
+
+/// How near pitch ±90° a hinge may come before the run stops, rad (MODEL.md §7).
+pub const GIMBAL_LOCK_MARGIN: f64 = 1e-3;
+impl<'m> Dynamics<'m> {
+    /// Equations of motion of `model`; `theta_refs` are the hinges' initial continuous angles.
+    pub fn new(model: &'m Model, theta_refs: Vec<Euler321>) -> Self {
+        let nb = model.bodies.len();
+        let mut event_offsets = Vec::with_capacity(model.hinges.len() + 1);
+        let mut total = 0;
+        for h in &model.hinges {
+            event_offsets.push(total);
+            total += h.law.event_count();
+        }
+        event_offsets.push(total);
+        Self {
+            model,
+            theta_refs: RefCell::new(theta_refs),
+            memories: RefCell::new(vec![LawMemory::default(); model.hinges.len()]),
+            locks: RefCell::new(Vec::new()),
+            lock_ranges: RefCell::new(vec![0..0; model.hinges.len()]),
+            engaged: RefCell::new(Vec::new()),
+            active: RefCell::new((Vec::new(), vec![0..0; model.hinges.len()])),
+            event_offsets,
+            scratch: RefCell::new(Scratch {
+                motions: vec![BodyMotion::default(); nb],
+                force_in_n: vec![Vec3::zeros(); nb],
+                torque_in_n: vec![Vec3::zeros(); nb],
+                rows: Vec::new(),
+                work: Workspace::default(),
+            }),
+            evaluations: Cell::new(0),
+            constrained_evaluations: Cell::new(0),
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &'m Model {
+        self.model
+    }
+
+    /// Number of right-hand-side evaluations so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations.get()
+    }
+
+    /// Number of right-hand-side evaluations so far that had engaged locks to solve for.
+    pub fn constrained_evaluations(&self) -> u64 {
+        self.constrained_evaluations.get()
+    }
+
+    /// The hinges' current continuous-angle references.
+    pub fn theta_refs(&self) -> std::cell::Ref<'_, Vec<Euler321>> {
+        self.theta_refs.borrow()
+    }
+
+    /// The hinge laws' current memory.
+    pub fn memories(&self) -> std::cell::Ref<'_, Vec<LawMemory>> {
+        self.memories.borrow()
+    }
+
+    /// Length of the state vector: bodies, then one dissipated-energy integral per hinge.
+    pub fn state_len(&self) -> usize {
+        BODY_STATE_LEN * self.model.bodies.len() + self.model.hinges.len()
+    }
+
+    /// Index of hinge `h`'s dissipated energy in the state vector.
+    pub fn dissipation_index(&self, h: usize) -> usize {
+        BODY_STATE_LEN * self.model.bodies.len() + h
+    }
+
+    /// Kinematics of hinge `i` at state `y`, with angle references `refs`.
+    fn kinematics_at(&self, i: usize, y: &[f64], refs: &[Euler321]) -> HingeKinematics {
+        let h = &self.model.hinges[i];
+        hinge_kinematics(h, &BodyMotion::from_state(y, h.parent), &BodyMotion::from_state(y, h.child), &refs[i])
+    }
+
+    /// Kinematics of every hinge at state `y`, with the current references.
+    fn each_hinge<F: FnMut(usize, &HingeKinematics)>(&self, y: &[f64], mut f: F) {
+        let refs = self.theta_refs.borrow();
+        for i in 0..self.model.hinges.len() {
+            f(i, &self.kinematics_at(i, y, &refs));
+        }
+    }
+
+    /// Sets every law's memory from the initial state, and holds every locked direction at
+    /// its value there (every lock engaged).
+    pub fn initialize_memory(&self, y: &[f64]) {
+        let mut mem = vec![LawMemory::default(); self.model.hinges.len()];
+        let mut locks = Vec::new();
+        let mut ranges = vec![0..0; self.model.hinges.len()];
+        self.each_hinge(y, |i, k| {
+            let law = &self.model.hinges[i].law;
+            mem[i] = law.initial_memory(&k.state);
+            let first = locks.len();
+            for (d, _) in law.locked_directions().iter().enumerate().filter(|(_, l)| **l) {
+                let target = if d < 3 { k.state.delta_in_a0[d] } else { k.state.theta.as_vector()[euler_index(d)] };
+                locks.push(Lock { hinge: i, direction: d, target });
+            }
+            ranges[i] = first..locks.len();
+        });
+        *self.memories.borrow_mut() = mem;
+        let n = locks.len();
+        *self.locks.borrow_mut() = locks;
+        *self.lock_ranges.borrow_mut() = ranges;
+        self.set_engaged(vec![true; n]);
+    }
+
+    /// Records an accepted state: moves every hinge's angle reference to its continuous
+    /// angles there and checks the laws' domains. Fails, naming the hinge, if an Euler-angle
+    /// law comes within [`GIMBAL_LOCK_MARGIN`] of pitch ±90°, where 3-2-1 laws are singular
+    /// (MODEL.md §7), or if a law's own check fails (a table's range, say).
+    pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
+        let mut refs = self.theta_refs.borrow_mut();
+        let mut memories = self.memories.borrow_mut();
+        for (i, h) in self.model.hinges.iter().enumerate() {
+            let k = self.kinematics_at(i, y, &refs);
+            if h.law.uses_euler_angles() {
+                if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
+                    return Err(format!(
+                        "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (MODEL.md §7), so the hinge law is not defined there",
+                        h.name,
+                        k.state.theta.pitch.to_degrees()
+                    ));
+                }
+                // Between accepted steps yaw and roll move continuously; a jump of more than
+                // a quarter turn means the step passed the singular pitch and the branch is lost.
+                let jump = (k.state.theta.yaw - refs[i].yaw).abs().max((k.state.theta.roll - refs[i].roll).abs());
+                if jump > std::f64::consts::FRAC_PI_2 {
+                    return Err(format!(
+                        "hinge '{}' passed near pitch ±90° before t = {t:.6} s (yaw or roll jumped by {:.1}° in one step): 3-2-1 Euler angles are singular there (MODEL.md §7)",
+                        h.name,
+                        jump.to_degrees()
+                    ));
+                }
+            }
+            h.law.check(&k.state, &memories[i]).map_err(|m| format!("hinge '{}' at t = {t:.6} s: {m}", h.name))?;
+            h.law.sync_memory(&k.state, &mut memories[i]);
+            refs[i] = k.state.theta;
+        }
+        Ok(())
+    }
+
+    /// Right-hand side `ẏ = f(y)` (time does not appear).
+    pub fn rhs(&self, y: &[f64], dydt: &mut [f64]) {
+        self.evaluations.set(self.evaluations.get() + 1);
+        let model = self.model;
+        let refs = self.theta_refs.borrow();
+        let memories = self.memories.borrow();
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { motions, force_in_n, torque_in_n, rows, work } = &mut *scratch;
+        let active = self.active.borrow();
+        let (locks, lock_ranges) = &*active;
+        for (i, m) in motions.iter_mut().enumerate() {
+            *m = BodyMotion::from_state(y, i);
+        }
+        force_in_n.iter_mut().for_each(|f| *f = Vec3::zeros());
+        torque_in_n.iter_mut().for_each(|t| *t = Vec3::zeros());
+        rows.clear();
+
+        let diss0 = BODY_STATE_LEN * model.bodies.len();
+        for (i, (h, theta_ref)) in model.hinges.iter().zip(refs.iter()).enumerate() {
+            let (p, c) = (&motions[h.parent], &motions[h.child]);
+            let k = hinge_kinematics(h, p, c, theta_ref);
+            let memory = &memories[i];
+            let (HingeWrench { force_in_a0, torque_in_a }, power) = h.law.wrench_and_dissipation(&k.state, memory);
+            dydt[diss0 + i] = power;
+            let f_n = k.dcm_n_a0 * force_in_a0;
+            let tau_n = k.dcm_n_a * torque_in_a;
+            force_in_n[h.parent] += f_n;
+            torque_in_n[h.parent] += k.arm_parent_in_n.cross(&f_n) + tau_n;
+            force_in_n[h.child] -= f_n;
+            torque_in_n[h.child] -= k.arm_child_in_n.cross(&f_n) + tau_n;
+            let range = lock_ranges[i].clone();
+            if !range.is_empty() {
+                hinge_rows(h, &locks[range], p, c, &k, rows);
+            }
+        }
+
+        for (i, body) in model.bodies.iter().enumerate() {
+            let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+            let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+            let m = &motions[i];
+            let omega_b = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
+            d[POS..POS + 3].copy_from_slice(&s[VEL..VEL + 3]);
+            d[QUAT..QUAT + 4].copy_from_slice(&quat_rate(&s[QUAT..QUAT + 4], &omega_b));
+            let a = force_in_n[i] / body.mass;
+            d[VEL..VEL + 3].copy_from_slice(a.as_slice());
+            // Euler's equation in body components: I ω̇ = τ − ω × I ω.
+            let tau_b = m.dcm_n_b.tr_mul(&torque_in_n[i]);
+            let i_omega = body.inertia_in_body * omega_b;
+            let omega_dot = body.inertia_inv_in_body * (tau_b - omega_b.cross(&i_omega));
+            d[OMEGA..OMEGA + 3].copy_from_slice(omega_dot.as_slice());
+        }
+        if !rows.is_empty() {
+            self.constrained_evaluations.set(self.constrained_evaluations.get() + 1);
+            // Locked directions: the constraint correction (crate::dynamics::locks). A singular
+            // system (redundant locks) is refused when the run starts.
+            let _ = constrain_accelerations(model, rows, motions, dydt, work);
+        }
+    }
+}
+
+impl crate::integrate::OdeSystem for Dynamics<'_> {
+    fn rhs(&self, _t: f64, y: &[f64], dydt: &mut [f64]) {
+        Dynamics::rhs(self, y, dydt);
+    }
+}

@@ -1,0 +1,35 @@
+//! Structure generators: scenario files for families of structures (DESIGN.md §4: generators
+//! write scenarios; nothing downstream knows who wrote one).
+//!
+//! - [`zfold()`]: a z-folded chain of N panels off the hub, stowed with alternating folds.
+//! - [`grid()`]: an R × C grid of panels, each hinged to its neighbours along both grid
+//!   directions, the corner panel to the hub: (R−1)(C−1) hinges close loops.
+//!
+//! Every hinge uses law 2 (Euler potential) about its fold axis (A's z axis): stiff in the
+//! five other directions, soft in the fold, as real hinges are.
+
+pub mod grid;
+pub mod params;
+pub mod zfold;
+
+pub use grid::grid;
+pub use params::Params;
+pub use zfold::zfold;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    #[test]
+    fn generated_scenarios_parse_with_the_expected_topology() {
+        let p = Params::default();
+        let z = Scenario::from_toml(&zfold(16, &p), "zfold").unwrap();
+        assert_eq!(z.model.bodies.len(), 17);
+        assert!(z.model.is_tree_hinge.iter().all(|t| *t));
+        let g = Scenario::from_toml(&grid(4, 5, &p), "grid").unwrap();
+        assert_eq!(g.model.bodies.len(), 21);
+        let loops = g.model.is_tree_hinge.iter().filter(|t| !**t).count();
+        assert_eq!(loops, 3 * 4, "(rows−1)(cols−1) loop hinges");
+    }
+}

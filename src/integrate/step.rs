@@ -1,0 +1,176 @@
+//! What every integrator shares: the system it integrates, the accepted step it hands out
+//! with its dense output, its statistics and its errors.
+
+/// A first-order system `ẏ = f(t, y)`.
+pub trait OdeSystem {
+    /// Writes `f(t, y)` into `dydt`.
+    fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]);
+}
+
+/// Integration method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// Dormand–Prince 8(5,3), adaptive, 7th-order dense output.
+    Dop853 {
+        /// Relative tolerance per component.
+        rtol: f64,
+        /// Absolute tolerance per component.
+        atol: f64,
+    },
+    /// Dormand–Prince 5(4), adaptive, 4th-order dense output.
+    Dopri5 {
+        /// Relative tolerance per component.
+        rtol: f64,
+        /// Absolute tolerance per component.
+        atol: f64,
+    },
+    /// Classical RK4 with a fixed step (s); cubic Hermite dense output.
+    Rk4 {
+        /// Step, in the units of t.
+        step: f64,
+    },
+}
+
+/// Counters of one integration.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub accepted: usize,
+    /// Rejected steps.
+    pub rejected: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: usize,
+    /// First time at which DOP853 found its step limited by stability rather than accuracy
+    /// (Hairer's test: h·|λ| > 6.1 on 15 accepted steps in a row), if it did.
+    pub stiff_from: Option<f64>,
+    /// Newton iterations (implicit methods).
+    pub newton_iterations: usize,
+    /// Jacobians formed (implicit methods).
+    pub jacobians: usize,
+}
+
+/// Why an integration stopped early.
+#[derive(Debug, PartialEq)]
+pub enum OdeError<E> {
+    /// The step size fell to the round-off level of t.
+    StepTooSmall {
+        /// Time reached.
+        t: f64,
+        /// Step size at failure.
+        h: f64,
+    },
+    /// The right-hand side produced a non-finite value.
+    NonFinite {
+        /// Time reached.
+        t: f64,
+    },
+    /// The step callback stopped the run.
+    Callback(E),
+}
+
+/// What the step callback asks the integrator to do next.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Control {
+    /// Go on from the end of the accepted step.
+    Continue,
+    /// Go on from `(t, y)` instead (for example after an event that changes the right-hand
+    /// side at the end of the step). The first derivative is re-evaluated there.
+    Restart {
+        /// Time to restart from.
+        t: f64,
+        /// State to restart from.
+        y: Vec<f64>,
+    },
+    /// Discard the step and take it again to end at `t` (inside the step): an event located
+    /// by dense output at `t`, so that no step straddles a change of the right-hand side.
+    Truncate {
+        /// Time the retaken step should end at.
+        t: f64,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum DenseKind {
+    Hermite,
+    Dopri5,
+    Dop853,
+}
+
+/// An accepted step, with its dense output.
+pub struct Step<'a> {
+    /// Start of the step.
+    pub t_prev: f64,
+    /// End of the step.
+    pub t: f64,
+    /// State at `t`.
+    pub y: &'a [f64],
+    pub(super) kind: DenseKind,
+    pub(super) cont: &'a [Vec<f64>],
+}
+
+impl<'a> Step<'a> {
+    /// A step whose dense output is the cubic Hermite with terms `cont` (Hairer's rcont1..4:
+    /// y_prev, y − y_prev, h f_prev − (y − y_prev), (y − y_prev) − h f − that).
+    pub(crate) fn hermite(t_prev: f64, t: f64, y: &'a [f64], cont: &'a [Vec<f64>]) -> Self {
+        Step { t_prev, t, y, kind: DenseKind::Hermite, cont }
+    }
+
+    /// The dense-output state at `t` in `[t_prev, t]`, written into `out`.
+    pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.interpolate_range(t, 0..out.len(), out);
+    }
+
+    /// The components `range` of the dense-output state at `t` in `[t_prev, t]`, written
+    /// into `out[range]` (the rest of `out` is left as it is): for an event function that
+    /// reads two bodies of many.
+    pub fn interpolate_range(&self, t: f64, range: std::ops::Range<usize>, out: &mut [f64]) {
+        let h = self.t - self.t_prev;
+        let s = if h != 0.0 { (t - self.t_prev) / h } else { 1.0 };
+        let s1 = 1.0 - s;
+        let c = self.cont;
+        let out = &mut out[range.clone()];
+        match self.kind {
+            DenseKind::Hermite => {
+                for (i, o) in range.zip(out) {
+                    *o = c[0][i] + s * (c[1][i] + s1 * (c[2][i] + s * c[3][i]));
+                }
+            }
+            DenseKind::Dopri5 => {
+                for (i, o) in range.zip(out) {
+                    *o = c[0][i] + s * (c[1][i] + s1 * (c[2][i] + s * (c[3][i] + s1 * c[4][i])));
+                }
+            }
+            DenseKind::Dop853 => {
+                for (i, o) in range.zip(out) {
+                    let conpar = c[4][i] + s * (c[5][i] + s1 * (c[6][i] + s * c[7][i]));
+                    *o = c[0][i] + s * (c[1][i] + s1 * (c[2][i] + s * (c[3][i] + s1 * conpar)));
+                }
+            }
+        }
+    }
+}
+
+/// Calls `on_step` once at `t0` with a zero-length step at `y` (its [`Control`] is ignored),
+/// as every integrator does before its first step.
+pub(super) fn announce_start<E>(
+    t0: f64,
+    y: &[f64],
+    on_step: &mut impl FnMut(&Step<'_>) -> Result<Control, E>,
+) -> Result<(), OdeError<E>> {
+    let n = y.len();
+    let cont = vec![y.to_vec(), vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+    on_step(&Step { t_prev: t0, t: t0, y, kind: DenseKind::Hermite, cont: &cont }).map_err(OdeError::Callback)?;
+    Ok(())
+}
+
+/// Cubic Hermite terms shared by all three dense outputs (Hairer's rcont1..rcont4).
+pub(super) fn hermite(cont: &mut [Vec<f64>], y: &[f64], y_new: &[f64], f_old: &[f64], f_new: &[f64], h: f64) {
+    for i in 0..y.len() {
+        let ydiff = y_new[i] - y[i];
+        let bspl = h * f_old[i] - ydiff;
+        cont[0][i] = y[i];
+        cont[1][i] = ydiff;
+        cont[2][i] = bspl;
+        cont[3][i] = ydiff - h * f_new[i] - bspl;
+    }
+}

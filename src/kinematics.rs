@@ -1,0 +1,216 @@
+//! Kinematics: a hinge's relative state from the motions of its two bodies (MODEL.md §2),
+//! and the reverse, placing bodies from the hub along the spanning tree from initial
+//! conditions given in the paper's relative coordinates (MODEL.md §3).
+
+use crate::law::HingeState;
+use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, real};
+use crate::model::{Hinge, Model};
+use crate::state::{BodyMotion, State, state_from_motions};
+use nalgebra::{Matrix3, Vector3};
+
+/// Kinematics of one hinge at one instant, with the frames the wrench needs (f64, or dual
+/// numbers for the Jacobian).
+#[derive(Clone, Copy, Debug)]
+pub struct HingeKinematics<T: nalgebra::Scalar = f64> {
+    /// The relative state handed to the law.
+    pub state: HingeState<T>,
+    /// `[N A0]`.
+    pub dcm_n_a0: Matrix3<T>,
+    /// `[N A]`.
+    pub dcm_n_a: Matrix3<T>,
+    /// A's origin from the parent CoM, m, N components.
+    pub arm_parent_in_n: Vector3<T>,
+    /// A's origin from the child CoM, m, N components.
+    pub arm_child_in_n: Vector3<T>,
+}
+
+/// The translational part of a hinge's kinematics (see [`HingeKinematics`]).
+#[derive(Clone, Copy, Debug)]
+pub struct HingeTranslation<T: nalgebra::Scalar = f64> {
+    /// `[N A0]`.
+    pub dcm_n_a0: Matrix3<T>,
+    /// A's origin from the parent CoM, m, N components.
+    pub arm_parent_in_n: Vector3<T>,
+    /// A's origin from the child CoM, m, N components.
+    pub arm_child_in_n: Vector3<T>,
+    /// δ: A's origin from A0's, m, A0 components.
+    pub delta_in_a0: Vector3<T>,
+    /// The rate of δ's A0 components, m/s.
+    pub delta_rate_in_a0: Vector3<T>,
+}
+
+/// The translational part of hinge `h`'s relative state from the motions of its parent and
+/// child (MODEL.md §2): what [`hinge_kinematics`] computes before the rotation.
+#[inline]
+pub fn hinge_translation<T: Real>(h: &Hinge, parent: &BodyMotion<T>, child: &BodyMotion<T>) -> HingeTranslation<T> {
+    let dcm_n_a0 = parent.dcm_n_b * lift::<T>(&h.dcm_parent_a0);
+    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent.map(real::<T>);
+    let arm_child = child.dcm_n_b * h.r_a_in_child.map(real::<T>);
+    let r_a = child.r_in_n + arm_child;
+    let arm_parent = r_a - parent.r_in_n;
+    let delta_n = arm_parent - arm_a0;
+    let dcm_a0_n = dcm_n_a0.transpose();
+    // δ̇ = [A0 N](Ṙ_A − Ṙ_A0) − ω_p × δ, the rate of the A0 components.
+    let v_a0 = parent.v_in_n + parent.omega_in_n.cross(&arm_a0);
+    let v_a = child.v_in_n + child.omega_in_n.cross(&arm_child);
+    HingeTranslation {
+        dcm_n_a0,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: arm_child,
+        delta_in_a0: dcm_a0_n * delta_n,
+        delta_rate_in_a0: dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n)),
+    }
+}
+
+/// Relative state of hinge `h` from the motions of its parent and child (MODEL.md §2).
+///
+/// The Euler angles are taken from `[A A0]` and moved by whole turns in yaw and roll to lie
+/// nearest `theta_ref` (MODEL.md §7), so tree and loop hinges alike are continuous.
+#[inline]
+pub fn hinge_kinematics<T: Real>(
+    h: &Hinge,
+    parent: &BodyMotion<T>,
+    child: &BodyMotion<T>,
+    theta_ref: &Euler321,
+) -> HingeKinematics<T> {
+    let HingeTranslation {
+        dcm_n_a0,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: arm_child,
+        delta_in_a0,
+        delta_rate_in_a0,
+    } = hinge_translation(h, parent, child);
+    let dcm_n_a = child.dcm_n_b * lift::<T>(&h.dcm_child_a);
+    let dcm_a_a0 = dcm_n_a.transpose() * dcm_n_a0;
+    let theta = Euler321::from_dcm(&dcm_a_a0).unwrapped_near(theta_ref);
+    let omega_rel_in_a = dcm_n_a.transpose() * (child.omega_in_n - parent.omega_in_n);
+    HingeKinematics {
+        state: HingeState {
+            delta_in_a0,
+            delta_rate_in_a0,
+            theta,
+            dcm_a_a0,
+            omega_rel_in_a,
+            trig: EulerTrig::from_dcm(&dcm_a_a0),
+        },
+        dcm_n_a0,
+        dcm_n_a,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: arm_child,
+    }
+}
+
+/// Rates and displacement of one tree hinge (the angles travel separately).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RelativeTwist {
+    /// δ, m, A0 components.
+    pub delta_in_a0: Vec3,
+    /// δ̇ (time derivative of the A0 components), m/s.
+    pub delta_rate_in_a0: Vec3,
+    /// `ω_{A/A0}`, rad/s, A components.
+    pub omega_rel_in_a: Vec3,
+}
+
+/// Initial values of one tree hinge; missing values are zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HingeInitial {
+    /// δ, rates and ω_rel.
+    pub twist: RelativeTwist,
+    /// `θ_{A/A0}`; `None` means zero unless the placed body's attitude is given instead.
+    pub theta: Option<Euler321>,
+}
+
+/// Initial conditions of a whole structure (MODEL.md §3, paper Tables 3 and 7).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InitialConditions {
+    /// `R_{B/N}`, m, N components.
+    pub hub_position_in_n: Vec3,
+    /// `θ_{B/N}`.
+    pub hub_attitude: Euler321,
+    /// `Ṙ_{B/N}`, m/s, N components.
+    pub hub_velocity_in_n: Vec3,
+    /// `ω_{B/N}`, rad/s, hub components.
+    pub hub_omega_in_hub: Vec3,
+    /// Per hinge (model order): values for tree hinges; must be `None` for loop hinges.
+    pub hinges: Vec<Option<HingeInitial>>,
+    /// Per body (model order): `θ_{i/N}` given instead of the angles of the tree hinge that
+    /// places the body.
+    pub body_attitudes: Vec<Option<Euler321>>,
+}
+
+/// Places body `to` from the pose and twist of body `from` across hinge `h` (MODEL.md §3).
+///
+/// `reversed` is false when `from` is the hinge's parent. The pose follows
+/// [`Hinge::place`]; the twist adds the hinge's relative rates: `ω_c = ω_p + [N A] ω_rel`
+/// and `Ṙ_A = Ṙ_A0 + [N A0] δ̇ + ω_p × δ`.
+pub fn place_motion(h: &Hinge, reversed: bool, from: &BodyMotion, theta: Euler321, rel: &RelativeTwist) -> BodyMotion {
+    let dcm_a_a0 = theta.to_dcm();
+    let p = h.place(reversed, (from.r_in_n, from.dcm_n_b), &dcm_a_a0, &rel.delta_in_a0);
+    if !reversed {
+        let (v_p, w_p) = (from.v_in_n, from.omega_in_n);
+        let w_c = w_p + p.dcm_n_a * rel.omega_rel_in_a;
+        let v_a = v_p + w_p.cross(&p.arm_a0_in_n) + p.dcm_n_a0 * rel.delta_rate_in_a0 + w_p.cross(&p.delta_in_n);
+        let v_c = v_a - w_c.cross(&p.arm_a_in_n);
+        BodyMotion { r_in_n: p.r_in_n, dcm_n_b: p.dcm_n_b, v_in_n: v_c, omega_in_n: w_c }
+    } else {
+        let (v_c, w_c) = (from.v_in_n, from.omega_in_n);
+        let w_p = w_c - p.dcm_n_a * rel.omega_rel_in_a;
+        let v_a = v_c + w_c.cross(&p.arm_a_in_n);
+        let v_a0 = v_a - p.dcm_n_a0 * rel.delta_rate_in_a0 - w_p.cross(&p.delta_in_n);
+        let v_p = v_a0 - w_p.cross(&p.arm_a0_in_n);
+        BodyMotion { r_in_n: p.r_in_n, dcm_n_b: p.dcm_n_b, v_in_n: v_p, omega_in_n: w_p }
+    }
+}
+
+/// Hinge angles that give body `to` the attitude `[to N]` when placed across `h` from a
+/// body whose `[N from]` is known.
+fn theta_for_attitude(h: &Hinge, reversed: bool, dcm_n_from: &Mat3, dcm_to_n: &Mat3) -> Euler321 {
+    let dcm_a_a0 = if !reversed {
+        // [A A0] = [A c][c N][N p][p A0]
+        h.dcm_child_a.transpose() * dcm_to_n * dcm_n_from * h.dcm_parent_a0
+    } else {
+        // [A A0] = [A c][c N][N p][p A0] with c known and p to be placed.
+        h.dcm_child_a.transpose() * dcm_n_from.transpose() * dcm_to_n.transpose() * h.dcm_parent_a0
+    };
+    Euler321::from_dcm(&dcm_a_a0)
+}
+
+/// The state vector (bodies, then one zero per hinge for its dissipated energy) and the
+/// continuous angle references for the given initial conditions.
+///
+/// Returns the state and, per hinge, the initial `θ_{A/A0}` (given values for tree hinges,
+/// which may lie outside the principal range; principal values for loop hinges).
+pub fn initial_state(model: &Model, ic: &InitialConditions) -> (State, Vec<Euler321>) {
+    let nb = model.bodies.len();
+    let mut motions = vec![BodyMotion::default(); nb];
+    motions[0] = BodyMotion {
+        r_in_n: ic.hub_position_in_n,
+        dcm_n_b: ic.hub_attitude.to_dcm().transpose(),
+        v_in_n: ic.hub_velocity_in_n,
+        omega_in_n: ic.hub_attitude.to_dcm().transpose() * ic.hub_omega_in_hub,
+    };
+    let mut theta_refs = vec![Euler321::default(); model.hinges.len()];
+    for e in &model.tree {
+        let h = &model.hinges[e.hinge];
+        let init = ic.hinges.get(e.hinge).copied().flatten().unwrap_or_default();
+        let from = motions[e.from];
+        let theta = match (init.theta, ic.body_attitudes.get(e.to).copied().flatten()) {
+            (Some(t), _) => t,
+            (None, Some(att)) => theta_for_attitude(h, e.reversed, &from.dcm_n_b, &att.to_dcm()),
+            (None, None) => Euler321::default(),
+        };
+        theta_refs[e.hinge] = theta;
+        motions[e.to] = place_motion(h, e.reversed, &from, theta, &init.twist);
+    }
+    let mut state: State = state_from_motions(model, &motions);
+    // Each hinge's dissipated energy starts at zero (the state's layout, crate::state).
+    state.resize(state.len() + model.hinges.len(), 0.0);
+    for (i, h) in model.hinges.iter().enumerate() {
+        if !model.is_tree_hinge[i] {
+            let dcm_n_a0 = motions[h.parent].dcm_n_b * h.dcm_parent_a0;
+            let dcm_n_a = motions[h.child].dcm_n_b * h.dcm_child_a;
+            theta_refs[i] = Euler321::from_dcm(&(dcm_n_a.transpose() * dcm_n_a0));
+        }
+    }
+    (state, theta_refs)
+}

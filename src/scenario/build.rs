@@ -1,0 +1,320 @@
+//! A scenario ready to run: read, checked and turned into a model, initial conditions and
+//! run settings.
+
+use super::error::{Ctx, ScenarioError, enclosing_item};
+use super::laws::law;
+use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
+use super::values::{angles, check_finite, matrix, positive, vec3};
+use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist};
+use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
+use crate::simulate::{Integrator, RunSettings};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A scenario ready to run.
+#[derive(Debug)]
+pub struct Scenario {
+    /// Optional title from the file.
+    pub title: Option<String>,
+    /// The structure.
+    pub model: Model,
+    /// Initial conditions (relative coordinates).
+    pub initial: InitialConditions,
+    /// Duration, output step and integrator.
+    pub settings: RunSettings,
+    /// Output CSV path from `run.csv`, resolved against the scenario file's directory.
+    pub csv: Option<PathBuf>,
+}
+
+// ---------------------------------------------------------------------------------------
+
+impl Scenario {
+    /// Reads and checks a scenario file.
+    pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+            file: label.clone(),
+            location: None,
+            message: format!("cannot read the scenario file: {e}"),
+        })?;
+        let base = path.parent().unwrap_or(Path::new(""));
+        let mut s = Self::from_toml_in(&text, &label, base)?;
+        if let Some(csv) = &s.csv {
+            s.csv = Some(base.join(csv));
+        }
+        Ok(s)
+    }
+
+    /// Parses and checks scenario text; `file` labels error messages; relative table paths
+    /// are resolved against the current directory.
+    pub fn from_toml(text: &str, file: &str) -> Result<Self, ScenarioError> {
+        Self::from_toml_in(text, file, Path::new(""))
+    }
+
+    /// As [`Scenario::from_toml`], resolving relative table paths against `base`.
+    pub fn from_toml_in(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
+        let ctx = Ctx { file, text, base };
+        let raw: RawScenario = toml::from_str(text).map_err(|e| {
+            let message = e.message().trim().to_string();
+            let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
+                Some(item) => format!("{item}: {message}"),
+                None => message,
+            };
+            ctx.at(e.span(), message)
+        })?;
+        check_finite(&ctx)?;
+        build(&ctx, raw)
+    }
+}
+
+fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
+    // Run settings.
+    let run = raw.run.get_ref();
+    let duration = positive(ctx, &run.duration, "run.duration", "s")?;
+    let output_step = positive(ctx, &run.output_step, "run.output_step", "s")?;
+    let need = |v: &Option<Spanned<f64>>, key: &str, what: &str| -> Result<f64, ScenarioError> {
+        match v {
+            Some(x) => positive(ctx, x, key, ""),
+            None => Err(ctx
+                .span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{}'", run.integrator.get_ref()))),
+        }
+    };
+    let forbid = |v: &Option<Spanned<f64>>, key: &str| -> Result<(), ScenarioError> {
+        match v {
+            Some(x) => Err(ctx.span(x, format!("'{key}' does not apply to integrator '{}'", run.integrator.get_ref()))),
+            None => Ok(()),
+        }
+    };
+    let integrator = match run.integrator.get_ref().as_str() {
+        name @ ("dop853" | "dopri5" | "sdirk4") => {
+            forbid(&run.step, "run.step")?;
+            let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
+            let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
+            match name {
+                "dop853" => Integrator::Dop853 { rtol, atol },
+                "dopri5" => Integrator::Dopri5 { rtol, atol },
+                _ => Integrator::Sdirk4 { rtol, atol },
+            }
+        }
+        "rk4" => {
+            forbid(&run.rtol, "run.rtol")?;
+            forbid(&run.atol, "run.atol")?;
+            Integrator::Rk4 { step: need(&run.step, "run.step", "fixed step in s")? }
+        }
+        other => {
+            return Err(ctx.span(
+                &run.integrator,
+                format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"sdirk4\", \"rk4\""),
+            ));
+        }
+    };
+    let settings = RunSettings { duration, output_step, integrator, engage_locks_at_start: false };
+
+    // Bodies.
+    if raw.bodies.is_empty() {
+        return Err(ctx.at(None, "no [[body]] given; the first [[body]] is the hub"));
+    }
+    let mut body_index: HashMap<String, usize> = HashMap::new();
+    let mut bodies = Vec::with_capacity(raw.bodies.len());
+    for (i, b) in raw.bodies.iter().enumerate() {
+        let name = b.name.get_ref();
+        check_name(ctx, &b.name, "body")?;
+        if body_index.insert(name.clone(), i).is_some() {
+            return Err(ctx.span(&b.name, format!("duplicate body name '{name}'; body names must be unique")));
+        }
+        let inertia = matrix(b.inertia.get_ref())
+            .filter(|_| !matches!(b.inertia.get_ref(), toml::Value::Float(_) | toml::Value::Integer(_)));
+        let inertia = inertia.ok_or_else(|| {
+            ctx.span(&b.inertia, format!("body '{name}': 'inertia' must be 3 principal values [I1, I2, I3] or a full 3×3 tensor [[..],[..],[..]] in kg·m², body frame"))
+        })?;
+        let mass = *b.mass.get_ref();
+        let body = Body::new(name, mass, inertia).map_err(|m| {
+            let at = if mass > 0.0 && mass.is_finite() { b.inertia.span() } else { b.mass.span() };
+            ctx.at(Some(at), m)
+        })?;
+        bodies.push(body);
+    }
+
+    // Hinges.
+    let mut hinge_index: HashMap<String, usize> = HashMap::new();
+    let mut specs = Vec::with_capacity(raw.hinges.len());
+    for (i, h) in raw.hinges.iter().enumerate() {
+        let name = h.name.get_ref();
+        check_name(ctx, &h.name, "hinge")?;
+        if hinge_index.insert(name.clone(), i).is_some() {
+            return Err(ctx.span(&h.name, format!("duplicate hinge name '{name}'; hinge names must be unique")));
+        }
+        let lookup = |s: &Spanned<String>, key: &str| {
+            body_index.get(s.get_ref()).copied().ok_or_else(|| {
+                ctx.span(
+                    s,
+                    format!(
+                        "hinge '{name}': {key} '{}' is not a body; bodies are: {}",
+                        s.get_ref(),
+                        names(&raw.bodies)
+                    ),
+                )
+            })
+        };
+        let parent = lookup(&h.parent, "parent")?;
+        let child = lookup(&h.child, "child")?;
+        let parent_frame = parent_frame(ctx, name, &h.a0)?;
+        let a = h.a.get_ref();
+        let theta_c_a = angles(a.yaw, a.yaw_deg, a.pitch, a.pitch_deg, a.roll, a.roll_deg)
+            .map_err(|m| ctx.span(&h.a, format!("hinge '{name}' a: {m}")))?
+            .unwrap_or_default();
+        let law = law(ctx, name, &h.law)?;
+        specs.push(HingeSpec {
+            name: name.clone(),
+            parent,
+            child,
+            parent_frame,
+            r_child_in_a: vec3(Some(a.child_com)),
+            dcm_child_a: theta_c_a.to_dcm(),
+            law,
+        });
+    }
+
+    // Initial conditions.
+    let mut ic = InitialConditions {
+        hinges: vec![None; specs.len()],
+        body_attitudes: vec![None; bodies.len()],
+        ..Default::default()
+    };
+    if let Some(hub) = &raw.initial.hub {
+        let r = hub.get_ref();
+        ic.hub_position_in_n = vec3(r.position);
+        ic.hub_velocity_in_n = vec3(r.velocity);
+        ic.hub_omega_in_hub = vec3(r.omega);
+        ic.hub_attitude = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(hub, format!("initial.hub: {m}")))?
+            .unwrap_or_default();
+    }
+    let mut preferred = Vec::new();
+    for (key, v) in &raw.initial.hinge {
+        let Some(&i) = hinge_index.get(key.get_ref()) else {
+            return Err(ctx.span(
+                key,
+                format!(
+                    "initial.hinge.{}: no hinge of that name; hinges are: {}",
+                    key.get_ref(),
+                    hinge_names(&raw.hinges)
+                ),
+            ));
+        };
+        let r = v.get_ref();
+        let theta = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(v, format!("initial.hinge.{}: {m}", key.get_ref())))?;
+        ic.hinges[i] = Some(HingeInitial {
+            twist: RelativeTwist {
+                delta_in_a0: vec3(r.delta),
+                delta_rate_in_a0: vec3(r.delta_rate),
+                omega_rel_in_a: vec3(r.omega_rel),
+            },
+            theta,
+        });
+        preferred.push(i);
+    }
+    preferred.sort_unstable();
+    let mut attitude_keys = HashMap::new();
+    for (key, v) in &raw.initial.body {
+        let Some(&i) = body_index.get(key.get_ref()) else {
+            return Err(ctx.span(
+                key,
+                format!("initial.body.{}: no body of that name; bodies are: {}", key.get_ref(), names(&raw.bodies)),
+            ));
+        };
+        if i == 0 {
+            return Err(ctx.span(
+                key,
+                format!("initial.body.{}: that is the hub; give its attitude in [initial.hub]", key.get_ref()),
+            ));
+        }
+        let r = v.get_ref();
+        let att = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(v, format!("initial.body.{}: {m}", key.get_ref())))?;
+        ic.body_attitudes[i] = att;
+        attitude_keys.insert(i, key.span());
+    }
+
+    let model = Model::new(bodies, specs, &preferred).map_err(|e| model_error(ctx, &raw, e))?;
+
+    // A body attitude replaces the angles of the tree hinge that places that body.
+    for e in &model.tree {
+        if let (Some(span), Some(Some(HingeInitial { theta: Some(_), .. }))) =
+            (attitude_keys.get(&e.to), ic.hinges.get(e.hinge))
+        {
+            return Err(ctx.at(
+                Some(span.clone()),
+                format!(
+                    "initial.body.{} gives the attitude of a body whose tree hinge '{}' also has initial angles; give one or the other",
+                    model.bodies[e.to].name, model.hinges[e.hinge].name
+                ),
+            ));
+        }
+    }
+
+    let columns = crate::observe::columns(&model);
+    let mut seen = std::collections::HashSet::new();
+    for c in &columns {
+        if !seen.insert(c) {
+            return Err(ctx.at(
+                None,
+                format!("output column '{c}' would appear twice; rename the body or hinge whose name makes it"),
+            ));
+        }
+    }
+
+    Ok(Scenario { title: raw.title, model, initial: ic, settings, csv: run.csv.as_ref().map(PathBuf::from) })
+}
+
+fn check_name(ctx: &Ctx<'_>, name: &Spanned<String>, what: &str) -> Result<(), ScenarioError> {
+    let n = name.get_ref();
+    if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        return Err(ctx.span(
+            name,
+            format!(
+                "{what} name '{n}' must be non-empty and use only letters, digits, '_' and '-' (it names CSV columns)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn names(bodies: &[RawBody]) -> String {
+    bodies.iter().map(|b| b.name.get_ref().as_str()).collect::<Vec<_>>().join(", ")
+}
+
+fn hinge_names(hinges: &[RawHinge]) -> String {
+    hinges.iter().map(|h| h.name.get_ref().as_str()).collect::<Vec<_>>().join(", ")
+}
+
+fn parent_frame(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<toml::Value>) -> Result<ParentFrame, ScenarioError> {
+    let help = "a0 must be \"assembled\" or a table { position = [x, y, z] (m, parent frame), yaw_deg = .., pitch_deg = .., roll_deg = .. }";
+    match v.get_ref() {
+        toml::Value::String(s) if s == "assembled" => Ok(ParentFrame::Assembled),
+        toml::Value::Table(_) => {
+            let f: RawFrame = v.get_ref().clone().try_into().map_err(|e: toml::de::Error| {
+                ctx.span(v, format!("hinge '{hinge}' a0: {}; {help}", e.message().trim()))
+            })?;
+            let position = f
+                .position
+                .ok_or_else(|| ctx.span(v, format!("hinge '{hinge}' a0: missing 'position' (m, parent frame)")))?;
+            let theta = angles(f.yaw, f.yaw_deg, f.pitch, f.pitch_deg, f.roll, f.roll_deg)
+                .map_err(|m| ctx.span(v, format!("hinge '{hinge}' a0: {m}")))?
+                .unwrap_or_default();
+            Ok(ParentFrame::Given { r_a0_in_parent: vec3(Some(position)), dcm_a0_parent: theta.to_dcm() })
+        }
+        _ => Err(ctx.span(v, format!("hinge '{hinge}': {help}"))),
+    }
+}
+
+fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError {
+    let span = match (e.hinge, e.body) {
+        (Some(h), _) => raw.hinges.get(h).map(|h| h.name.span()),
+        (None, Some(b)) => raw.bodies.get(b).map(|b| b.name.span()),
+        _ => None,
+    };
+    ctx.at(span, e.message)
+}

@@ -1,0 +1,18 @@
+//! Time integration and output streaming.
+//!
+//! The integrators are in [`crate::integrate`] (DOP853 and Dormand–Prince 5(4) with dense
+//! output, classical RK4 with a fixed step). Output rows are
+//! produced from the dense output at each output time and handed to a sink as they are made,
+//! so memory does not grow with the length of a run.
+//!
+//! - [`settings`]: what a run is asked to do ([`RunSettings`], [`Integrator`]);
+//! - [`run`]: [`simulate`], which streams rows to a [`Sink`];
+//! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]).
+
+pub mod report;
+pub mod run;
+pub mod settings;
+
+pub use report::{Drift, RunReport, SimError};
+pub use run::{Sink, simulate};
+pub use settings::{Integrator, RunSettings};

@@ -29,6 +29,26 @@ pub fn re<T: Real>(x: T) -> f64 {
     nalgebra::convert_unchecked::<T, f64>(x)
 }
 
+/// Four-quadrant arctangent of `y / x`, rad, whose derivative is right wherever
+/// `(x, y) ≠ 0`: `d atan2 = (x dy − y dx) / (x² + y²)`.
+///
+/// `num_dual`'s own `atan2` differentiates `atan(y / x)`, which is 0/0 where `x` is exactly
+/// zero: a hinge angle at exactly ±90° (yaw or roll) with an exactly zero DCM entry, as
+/// quaternion products give for frames rolled by multiples of 45°, made every quaternion
+/// column of the exact Jacobian NaN. The value is f64's `atan2` to the bit (for f64 the
+/// derivative term is `y x − x y`, exactly zero).
+#[inline]
+pub fn atan2<T: Real>(y: T, x: T) -> T {
+    let (yr, xr) = (re(y), re(x));
+    let value = yr.atan2(xr);
+    let r2 = xr * xr + yr * yr;
+    if r2 == 0.0 {
+        // Undefined at the origin; only the value is given.
+        return real(value);
+    }
+    (y * real::<T>(xr) - x * real::<T>(yr)) * real::<T>(1.0 / r2) + real::<T>(value)
+}
+
 /// A matrix of f64 as a matrix of [`Real`]s.
 #[inline]
 pub fn lift<T: Real>(m: &Mat3) -> Matrix3<T> {
@@ -79,7 +99,7 @@ impl<T: Real> Euler321<T> {
         } else {
             s
         };
-        Self { yaw: dcm[(0, 1)].atan2(dcm[(0, 0)]), pitch: -s.asin(), roll: dcm[(1, 2)].atan2(dcm[(2, 2)]) }
+        Self { yaw: atan2(dcm[(0, 1)], dcm[(0, 0)]), pitch: -s.asin(), roll: atan2(dcm[(1, 2)], dcm[(2, 2)]) }
     }
 
     /// These angles with yaw and roll moved by whole turns to lie nearest `reference`
@@ -256,7 +276,7 @@ pub fn rotation_vector<T: Real>(dcm_x_y: &Matrix3<T>) -> Vector3<T> {
         // angle/sin(angle/2) → 2 as the angle → 0.
         return v * two;
     }
-    let angle = two * sin_half.atan2(w);
+    let angle = two * atan2(sin_half, w);
     v * (angle / sin_half)
 }
 
@@ -407,6 +427,21 @@ mod tests {
         let dcm = Euler321::new(1.0, 0.5, -2.5).to_dcm().transpose();
         let q = quat_from_dcm(&dcm);
         assert!((dcm_from_quat(&q) - dcm).abs().max() < 1e-14);
+    }
+
+    /// The derivative of [`atan2`] is `(x dy − y dx) / (x² + y²)` on the axes too (where
+    /// num-dual's own is 0/0), and its value is f64's `atan2` to the bit.
+    #[test]
+    fn atan2_differentiates_on_the_axes() {
+        use num_dual::Dual64;
+        for (y, x) in [(1.0, 0.0), (-2.0, 0.0), (0.0, -3.0), (0.0, 0.5), (0.3, -0.4)] {
+            let (dy, dx) = (0.7, -1.3);
+            let a = atan2(Dual64::new(y, dy), Dual64::new(x, dx));
+            assert_eq!(a.re, f64::atan2(y, x));
+            let expected = (x * dy - y * dx) / (x * x + y * y);
+            assert!((a.eps - expected).abs() < 1e-15, "({y}, {x}): {} vs {expected}", a.eps);
+            assert_eq!(atan2(y, x).to_bits(), f64::atan2(y, x).to_bits());
+        }
     }
 
     #[test]

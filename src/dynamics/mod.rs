@@ -6,6 +6,7 @@
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
 
+pub mod diagnose;
 pub mod engage;
 pub mod events;
 pub mod jacobian;

@@ -10,7 +10,7 @@
 //! `dopri5.f` and `dop853.f` (step-size control, starting step, dense output); the
 //! coefficients are theirs. Order and dense-output accuracy are tested in this module.
 
-use super::step::{Control, DenseKind, Method, OdeError, OdeSystem, Stats, Step, announce_start, hermite};
+use super::step::{Control, DenseKind, Limits, Method, OdeError, OdeSystem, Stats, Step, announce_start, hermite};
 use super::tableau::{DOP853, DOPRI5, DP5_D, DP8_BHH, DP8_D, RK4, Tableau};
 
 /// Work arrays reused across steps.
@@ -68,6 +68,7 @@ fn stage_point(out: &mut [f64], y: &[f64], h: f64, a: &[f64], k: &[Vec<f64>]) {
 pub fn integrate<S: OdeSystem + ?Sized, E>(
     system: &S,
     method: Method,
+    limits: Limits,
     t0: f64,
     tf: f64,
     y0: &[f64],
@@ -77,20 +78,22 @@ pub fn integrate<S: OdeSystem + ?Sized, E>(
     let mut y = y0.to_vec();
     announce_start(t0, &y, &mut on_step)?;
     match method {
-        Method::Rk4 { step } => fixed_rk4(system, step, t0, tf, &mut y, &mut stats, &mut on_step)?,
+        Method::Rk4 { step } => fixed_rk4(system, step, limits, t0, tf, &mut y, &mut stats, &mut on_step)?,
         Method::Dopri5 { rtol, atol } => {
-            adaptive(system, &DOPRI5, rtol, atol, t0, tf, &mut y, &mut stats, &mut on_step)?
+            adaptive(system, &DOPRI5, rtol, atol, limits, t0, tf, &mut y, &mut stats, &mut on_step)?
         }
         Method::Dop853 { rtol, atol } => {
-            adaptive(system, &DOP853, rtol, atol, t0, tf, &mut y, &mut stats, &mut on_step)?
+            adaptive(system, &DOP853, rtol, atol, limits, t0, tf, &mut y, &mut stats, &mut on_step)?
         }
     }
     Ok(stats)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn fixed_rk4<S: OdeSystem + ?Sized, E>(
     system: &S,
     step: f64,
+    limits: Limits,
     t0: f64,
     tf: f64,
     y: &mut Vec<f64>,
@@ -113,6 +116,9 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         let t_next = if tf - t_next < 1e-9 * step { tf } else { t_next };
         let t_next = forced_end.take().unwrap_or(t_next);
         let h = t_next - t;
+        if stats.accepted + stats.rejected >= limits.max_steps {
+            return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
+        }
         for s in 1..4 {
             let (done, rest) = w.k.split_at_mut(s);
             stage_point(&mut w.y_stage, y, h, RK4.a[s], done);
@@ -124,7 +130,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         stats.rhs_evaluations += 4;
         stats.accepted += 1;
         if w.y_new.iter().any(|x| !x.is_finite()) {
-            return Err(OdeError::NonFinite { t: t_next });
+            return Err(OdeError::NonFinite { t: t_next, y: w.y_new.clone() });
         }
         hermite(&mut w.cont, y, &w.y_new, &done[0], &rest[0], h);
         std::mem::swap(y, &mut w.y_new);
@@ -157,6 +163,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     tab: &Tableau,
     rtol: f64,
     atol: f64,
+    limits: Limits,
     t0: f64,
     tf: f64,
     y: &mut Vec<f64>,
@@ -186,14 +193,20 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     let mut facold: f64 = 1e-4;
     let mut last_rejected = false;
     let mut stiff_count = 0usize;
+    // Whether h was set to land on an event (exempt from the step floor), and whether the
+    // last rejection was for non-finite stages.
+    let (mut forced, mut non_finite) = (false, false);
     loop {
         let mut last = false;
         if t + 1.01 * h - tf > 0.0 {
             h = tf - t;
             last = true;
         }
-        if 0.1 * h.abs() <= t.abs() * uround {
-            return Err(OdeError::StepTooSmall { t, h });
+        if 0.1 * h.abs() <= t.abs() * uround || (!last && !forced && h.abs() < limits.min_step) {
+            return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
+        }
+        if stats.accepted + stats.rejected >= limits.max_steps {
+            return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
         }
         for s in 1..stages {
             let (done, rest) = w.k.split_at_mut(s);
@@ -242,8 +255,9 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             h *= fac_min;
             stats.rejected += 1;
             last_rejected = true;
+            (forced, non_finite) = (false, true);
             if h.abs() < 1e-300 {
-                return Err(OdeError::NonFinite { t });
+                return Err(OdeError::NonFinite { t, y: y.to_vec() });
             }
             continue;
         }
@@ -252,6 +266,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             // Accepted.
             let fac = (fac11 / facold.powf(beta) / safe).clamp(facc2, facc1);
             let mut h_new = h / fac;
+            (forced, non_finite) = (false, false);
             facold = err.max(1e-4);
             stats.accepted += 1;
             if is853 {
@@ -320,6 +335,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                     stats.accepted -= 1;
                     stats.rejected += 1;
                     h = tt - t_prev;
+                    forced = true;
                     continue;
                 }
             }
@@ -328,6 +344,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             // Rejected.
             h /= facc1.min(fac11 / safe);
             stats.rejected += 1;
+            (forced, non_finite) = (false, false);
             last_rejected = true;
         }
     }
@@ -387,15 +404,23 @@ mod tests {
     fn errors(method: Method) -> (f64, f64, Stats) {
         let (mut end, mut dense) = (0.0f64, 0.0f64);
         let mut buf = [0.0; 2];
-        let stats = integrate(&Oscillator, method, 0.0, 10.0, &[1.0, 0.0], |s: &Step<'_>| -> Result<Control, ()> {
-            end = end.max((s.y[0] - s.t.cos()).abs());
-            for f in [0.1, 0.25, 0.5, 0.75, 0.9] {
-                let tm = s.t_prev + f * (s.t - s.t_prev);
-                s.interpolate(tm, &mut buf);
-                dense = dense.max((buf[0] - tm.cos()).abs());
-            }
-            Ok(Control::Continue)
-        })
+        let stats = integrate(
+            &Oscillator,
+            method,
+            Limits::default(),
+            0.0,
+            10.0,
+            &[1.0, 0.0],
+            |s: &Step<'_>| -> Result<Control, ()> {
+                end = end.max((s.y[0] - s.t.cos()).abs());
+                for f in [0.1, 0.25, 0.5, 0.75, 0.9] {
+                    let tm = s.t_prev + f * (s.t - s.t_prev);
+                    s.interpolate(tm, &mut buf);
+                    dense = dense.max((buf[0] - tm.cos()).abs());
+                }
+                Ok(Control::Continue)
+            },
+        )
         .unwrap();
         (end, dense, stats)
     }
@@ -465,7 +490,7 @@ mod tests {
             let mut ends = Vec::new();
             let mut done = false;
             let mut last = 0.0;
-            integrate(&Constant, method, 0.0, 1.0, &[0.0], |s: &Step<'_>| -> Result<Control, ()> {
+            integrate(&Constant, method, Limits::default(), 0.0, 1.0, &[0.0], |s: &Step<'_>| -> Result<Control, ()> {
                 ends.push(s.t);
                 last = s.y[0];
                 if !done && s.t > 0.3 && s.t_prev < 0.3 {

@@ -6,7 +6,7 @@
 //! formed and factored is separate from the method.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, OdeError, OdeSystem, Stats, Step, announce_start};
+use super::step::{Control, Limits, OdeError, OdeSystem, Stats, Step, announce_start};
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -33,6 +33,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     newton: &mut dyn NewtonMatrix,
     rtol: f64,
     atol: f64,
+    limits: Limits,
     t0: f64,
     tf: f64,
     y0: &[f64],
@@ -50,7 +51,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut fresh_jacobian = true;
     stats.jacobians += 1;
     if !newton.prepare(t, &y, &f0, h * GAMMA) {
-        return Err(OdeError::StepTooSmall { t, h });
+        return Err(OdeError::StepTooSmall { t, h, non_finite: false, y: y.to_vec() });
     }
     let mut prepared_h = h;
     let mut z: Vec<Vec<f64>> = vec![vec![0.0; n]; 5];
@@ -61,16 +62,22 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     // gives up when it grows.
     const KAPPA: f64 = 0.03;
     const MAX_ITERATIONS: usize = 8;
+    // Whether h was set to land on an event (exempt from the step floor), and whether the
+    // last rejection was for a non-finite Newton iteration.
+    let (mut forced, mut non_finite) = (false, false);
     loop {
         let last = t + 1.01 * h >= tf;
         if last {
             h = tf - t;
         }
-        if h.abs() <= 10.0 * f64::EPSILON * t.abs().max(1.0) {
-            return Err(OdeError::StepTooSmall { t, h });
+        if h.abs() <= 10.0 * f64::EPSILON * t.abs().max(1.0) || (!last && !forced && h.abs() < limits.min_step) {
+            return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
+        }
+        if stats.accepted + stats.rejected >= limits.max_steps {
+            return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
         }
         if (h - prepared_h).abs() > 1e-12 * h && !newton.refactor(h * GAMMA) {
-            return Err(OdeError::StepTooSmall { t, h });
+            return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
         }
         prepared_h = h;
         // Stages: Z_i − hγ f(y + Z_i) = h Σ_{j<i} a_ij f(y + Z_j).
@@ -117,6 +124,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 }
                 let d = norm(&delta, &yi, rtol, atol);
                 if !d.is_finite() || (previous.is_finite() && d > previous) {
+                    non_finite = !d.is_finite();
                     break;
                 }
                 previous = d;
@@ -137,18 +145,19 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         }
         if !converged {
             stats.rejected += 1;
+            forced = false;
             if fresh_jacobian {
                 // The Jacobian is current: shrink the step.
                 h *= 0.5;
                 if !newton.refactor(h * GAMMA) {
-                    return Err(OdeError::StepTooSmall { t, h });
+                    return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
                 }
             } else {
                 // Retry with a fresh Jacobian before shrinking the step.
                 fresh_jacobian = true;
                 stats.jacobians += 1;
                 if !newton.prepare(t, &y, &f0, h * GAMMA) {
-                    return Err(OdeError::StepTooSmall { t, h });
+                    return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
                 }
             }
             prepared_h = h;
@@ -167,10 +176,13 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         for k in 0..n {
             yi[k] = y[k] + z[4][k];
         }
-        let e = norm(&err, &yi, rtol, atol).max(1e-10);
+        // A NaN error (an overflow in the stages) rejects the step (`max` would drop it).
+        let e = norm(&err, &yi, rtol, atol);
+        let e = if e.is_nan() { f64::INFINITY } else { e.max(1e-10) };
         let factor = (0.9 * e.powf(-0.25)).clamp(0.2, 4.0);
         if e <= 1.0 {
             stats.accepted += 1;
+            (forced, non_finite) = (false, false);
             let t_prev = t;
             // Cubic Hermite between (y, f0) and (y + Z_5, f(y + Z_5)).
             for k in 0..n {
@@ -200,6 +212,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     stats.rhs_evaluations += 1;
                     stats.accepted -= 1;
                     h = tt - t_prev;
+                    forced = true;
                     continue;
                 }
             }
@@ -218,12 +231,13 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 fresh_jacobian = true;
                 stats.jacobians += 1;
                 if !newton.prepare(t, &y, &f0, h * GAMMA) {
-                    return Err(OdeError::StepTooSmall { t, h });
+                    return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
                 }
                 prepared_h = h;
             }
         } else {
             stats.rejected += 1;
+            (forced, non_finite) = (false, !e.is_finite());
             h *= factor.min(1.0);
         }
     }
@@ -285,6 +299,7 @@ mod tests {
             &mut newton,
             1e-8,
             1e-10,
+            Limits::default(),
             0.0,
             10.0,
             &[1.0, 0.0, 1e-3, 0.0],

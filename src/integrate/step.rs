@@ -49,20 +49,58 @@ pub struct Stats {
     pub jacobians: usize,
 }
 
+/// Bounds that make every integration end, whatever the system does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Smallest step the step-size control may take, in the units of t (steps cut short to
+    /// land on an event or on the end are exempt). Below it the integration stops with
+    /// [`OdeError::StepTooSmall`].
+    pub min_step: f64,
+    /// Most steps, accepted and rejected together; beyond it the integration stops with
+    /// [`OdeError::TooManySteps`].
+    pub max_steps: usize,
+}
+
+impl Default for Limits {
+    /// No bound beyond round-off.
+    fn default() -> Self {
+        Self { min_step: 0.0, max_steps: usize::MAX }
+    }
+}
+
 /// Why an integration stopped early.
 #[derive(Debug, PartialEq)]
 pub enum OdeError<E> {
-    /// The step size fell to the round-off level of t.
+    /// The step size fell below [`Limits::min_step`] or to the round-off level of t.
     StepTooSmall {
         /// Time reached.
         t: f64,
         /// Step size at failure.
         h: f64,
+        /// Whether the last steps tried were rejected because their stages were not finite
+        /// (an overflow) rather than for their error.
+        non_finite: bool,
+        /// The last accepted state.
+        y: Vec<f64>,
+    },
+    /// More steps than [`Limits::max_steps`].
+    TooManySteps {
+        /// Time reached.
+        t: f64,
+        /// The last step size.
+        h: f64,
+        /// Steps taken, accepted and rejected.
+        steps: usize,
+        /// The last accepted state.
+        y: Vec<f64>,
     },
     /// The right-hand side produced a non-finite value.
     NonFinite {
         /// Time reached.
         t: f64,
+        /// The state there (the non-finite one where the method has it, else the last
+        /// accepted one).
+        y: Vec<f64>,
     },
     /// The step callback stopped the run.
     Callback(E),

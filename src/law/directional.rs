@@ -19,7 +19,7 @@
 //! never negative, and the mode is discrete memory changed by located events.
 
 use super::table::{Outside, Table, piece, piece_bounds, synced_piece};
-use super::{DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, JacobianDual, LawMemory, SlipMode};
+use super::{Bounds, DirectionMemory, EventKind, HingeLaw, HingeState, HingeWrench, JacobianDual, LawMemory, SlipMode};
 use crate::math::{Real, re, real, rotation_vector, rotation_vector_rate_matrix_inverse};
 use nalgebra::{Matrix3, Vector3};
 
@@ -255,6 +255,21 @@ impl Direction {
             d[1] += stop.damping;
         }
         d
+    }
+
+    /// Upper bounds on this direction's stiffness and damping over every state and memory.
+    fn bounds(&self) -> Bounds {
+        let stiffness = match &self.response {
+            Response::Free | Response::Locked => 0.0,
+            Response::Linear { k } => k.abs(),
+            Response::Table(t) => t.max_slope(),
+            Response::Table2(t) => t.lines.iter().map(Table::max_slope).fold(0.0, f64::max),
+            Response::TapeSpring(ts) => {
+                ts.increasing.max_slope().max(ts.decreasing.max_slope() + ts.transition_stiffness.abs())
+            }
+        };
+        let stop = self.stop.map(|s| (s.stiffness.abs(), s.damping.abs())).unwrap_or_default();
+        Bounds { stiffness: stiffness + stop.0, damping: self.damping.abs() + stop.1 }
     }
 
     fn conservative(&self) -> bool {
@@ -535,6 +550,10 @@ impl HingeLaw for DirectionalLaw {
             }
             _ => (EventKind::Branch, String::new()),
         }
+    }
+
+    fn stiffness_bounds(&self) -> [Bounds; 6] {
+        std::array::from_fn(|i| self.directions[i].bounds())
     }
 
     fn locked_directions(&self) -> [bool; 6] {

@@ -207,6 +207,22 @@ pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
     fn check(&self, _state: &HingeState, _memory: &LawMemory) -> Result<(), String> {
         Ok(())
     }
+
+    /// Per direction (x, y, z, rx, ry, rz): upper bounds on the stiffness `|∂f/∂q|` (N/m,
+    /// N·m/rad) and the damping `|∂f/∂q̇|` (N·s/m, N·m·s/rad) the law can present anywhere,
+    /// for the run's time-scale estimates (its step budget, and naming the stiffest hinge
+    /// when a run cannot go on). Zero for free and locked directions.
+    fn stiffness_bounds(&self) -> [Bounds; 6];
+}
+
+/// Upper bounds on one direction's stiffness and damping (see
+/// [`HingeLaw::stiffness_bounds`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Bounds {
+    /// Stiffness `|∂f/∂q|`, N/m or N·m/rad.
+    pub stiffness: f64,
+    /// Damping `|∂f/∂q̇|`, N·s/m or N·m·s/rad.
+    pub damping: f64,
 }
 
 /// The two wrench methods of [`HingeLaw`] for a law whose `wrench_t` is generic over the
@@ -257,6 +273,17 @@ impl LinearGains {
     /// `K_F δ + C_F δ̇`, the force of laws 1, 2 and the rotation-vector law.
     fn force<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
         lift::<T>(&self.k_f) * state.delta_in_a0 + self.damping_force(state)
+    }
+
+    /// Gershgorin bounds per direction: row sums of |K| and |C| (the translations from
+    /// `K_F`, `C_F`; the rotations from `K_θ` on φ = (roll, pitch, yaw) = (rx, ry, rz) and
+    /// `C_θ` on ω_rel).
+    fn bounds(&self) -> [Bounds; 6] {
+        let row = |m: &Mat3, i: usize| m.row(i).iter().map(|x| x.abs()).sum::<f64>();
+        std::array::from_fn(|d| {
+            let (k, c, i) = if d < 3 { (&self.k_f, &self.c_f, d) } else { (&self.k_theta, &self.c_theta, d - 3) };
+            Bounds { stiffness: row(k, i), damping: row(c, i) }
+        })
     }
 
     fn undamped(&self) -> bool {
@@ -318,6 +345,10 @@ impl HingeLaw for PaperLinear {
     fn name(&self) -> &'static str {
         "paper-linear"
     }
+
+    fn stiffness_bounds(&self) -> [Bounds; 6] {
+        self.gains.bounds()
+    }
 }
 
 /// Law 2, "Euler potential" (MODEL.md §4): `V = ½ δᵀ K_F δ + ½ φᵀ K_θ φ` with generalized
@@ -361,6 +392,10 @@ impl HingeLaw for EulerPotential {
 
     fn name(&self) -> &'static str {
         "euler-potential"
+    }
+
+    fn stiffness_bounds(&self) -> [Bounds; 6] {
+        self.gains.bounds()
     }
 }
 
@@ -408,6 +443,10 @@ impl HingeLaw for RotationVectorLinear {
 
     fn name(&self) -> &'static str {
         "rotation-vector"
+    }
+
+    fn stiffness_bounds(&self) -> [Bounds; 6] {
+        self.gains.bounds()
     }
 
     fn check(&self, state: &HingeState, _memory: &LawMemory) -> Result<(), String> {

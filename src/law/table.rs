@@ -106,6 +106,22 @@ impl Table {
         self.outside
     }
 
+    /// An upper bound on `|f'(q)|` over the table and its linear extension, N/m or N·m/rad:
+    /// the largest secant (linear), or per segment `1.5 |Δ| + |d₀| + |d₁|` (the cubic
+    /// Hermite's derivative `6s(1−s) Δ + (1−4s+3s²) d₀ + (3s²−2s) d₁` on s ∈ [0, 1]).
+    pub fn max_slope(&self) -> f64 {
+        let n = self.x.len();
+        (0..n - 1)
+            .map(|i| {
+                let secant = ((self.f[i + 1] - self.f[i]) / (self.x[i + 1] - self.x[i])).abs();
+                match self.interpolation {
+                    Interpolation::Linear => secant,
+                    Interpolation::Pchip => 1.5 * secant + self.d[i].abs() + self.d[i + 1].abs(),
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Whether `q` lies in the table's range.
     pub fn contains(&self, q: f64) -> bool {
         let (a, b) = self.range();

@@ -3,6 +3,7 @@
 
 pub mod body;
 pub mod hinge;
+pub mod rates;
 
 pub use body::Body;
 pub use hinge::{Hinge, HingeSpec, ParentFrame, Placement};

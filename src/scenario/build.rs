@@ -5,8 +5,10 @@ use super::error::{Ctx, ScenarioError, enclosing_item};
 use super::laws::law;
 use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
 use super::values::{angles, check_finite, matrix, positive, vec3};
-use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist};
+use crate::dynamics::Dynamics;
+use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist, initial_state};
 use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
+use crate::simulate::settings::{MAX_DEFAULT_STEP_BUDGET, MIN_STEP_OF_DURATION, default_step_budget};
 use crate::simulate::{Integrator, RunSettings};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -68,6 +70,9 @@ impl Scenario {
     }
 }
 
+/// The tightest relative tolerance accepted: 10 units of round-off (Hairer's bound).
+const MIN_RTOL: f64 = 10.0 * f64::EPSILON;
+
 fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     // Run settings.
     let run = raw.run.get_ref();
@@ -91,6 +96,16 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             forbid(&run.step, "run.step")?;
             let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
             let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
+            // Hairer's codes refuse rtol ≤ 10 u (u the unit round-off): no step can be that
+            // accurate in f64, and the step size would shrink until the run stops.
+            if rtol <= MIN_RTOL
+                && let Some(x) = &run.rtol
+            {
+                return Err(ctx.span(
+                    x,
+                    format!("'run.rtol' = {rtol:e} is beyond what f64 resolves: give more than {MIN_RTOL:.1e} (1e-13 or looser is usual)"),
+                ));
+            }
             match name {
                 "dop853" => Integrator::Dop853 { rtol, atol },
                 "dopri5" => Integrator::Dopri5 { rtol, atol },
@@ -100,7 +115,20 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         "rk4" => {
             forbid(&run.rtol, "run.rtol")?;
             forbid(&run.atol, "run.atol")?;
-            Integrator::Rk4 { step: need(&run.step, "run.step", "fixed step in s")? }
+            let step = need(&run.step, "run.step", "fixed step in s")?;
+            let steps = duration / step;
+            if (step < MIN_STEP_OF_DURATION * duration || steps > MAX_DEFAULT_STEP_BUDGET)
+                && let Some(x) = &run.step
+            {
+                return Err(ctx.span(
+                    x,
+                    format!(
+                        "'run.step' = {step:e} s would take {steps:.3e} steps over run.duration = {duration} s; give a step of at least {:.3e} s ({MAX_DEFAULT_STEP_BUDGET:e} steps)",
+                        duration / MAX_DEFAULT_STEP_BUDGET
+                    ),
+                ));
+            }
+            Integrator::Rk4 { step }
         }
         other => {
             return Err(ctx.span(
@@ -109,7 +137,12 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             ));
         }
     };
-    let settings = RunSettings { duration, output_step, integrator, engage_locks_at_start: false };
+    let max_steps = match &run.max_steps {
+        None => None,
+        Some(v) if *v.get_ref() > 0 => Some(*v.get_ref() as usize),
+        Some(v) => return Err(ctx.span(v, format!("'run.max_steps' must be a whole number > 0, got {}", v.get_ref()))),
+    };
+    let settings = RunSettings { duration, output_step, integrator, engage_locks_at_start: false, max_steps };
 
     // Bodies.
     if raw.bodies.is_empty() {
@@ -263,6 +296,35 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
                 None,
                 format!("output column '{c}' would appear twice; rename the body or hinge whose name makes it"),
             ));
+        }
+    }
+
+    // Every run must end: an explicit method that must follow the fastest hinge for this
+    // long would take more steps than any run should (the user may insist).
+    if settings.max_steps.is_none()
+        && !matches!(settings.integrator, Integrator::Sdirk4 { .. })
+        && default_step_budget(&model, duration) > MAX_DEFAULT_STEP_BUDGET
+        && let Some(fastest) = model.fastest_hinge()
+    {
+        return Err(ctx.span(
+            &raw.hinges[fastest.hinge].name,
+            format!(
+                "{}: following it with integrator '{}' for {duration} s takes about {:.1e} steps. Use integrator = \"sdirk4\" (it steps over stiff vibrations), make the hinge softer or its bodies heavier, or set run.max_steps to insist",
+                fastest.describe(&model),
+                settings.integrator.name(),
+                duration * fastest.rate / 3.0
+            ),
+        ));
+    }
+
+    // The initial state's loads and accelerations must be finite (an overflow would
+    // otherwise show only as a step size that collapses).
+    {
+        let (y0, refs) = initial_state(&model, &ic);
+        let dynamics = Dynamics::new(&model, refs);
+        dynamics.initialize_memory(&y0);
+        if let Some(cause) = dynamics.non_finite_cause(&y0) {
+            return Err(ctx.at(None, format!("the initial state: {cause}")));
         }
     }
 

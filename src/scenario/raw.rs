@@ -28,6 +28,7 @@ pub(super) struct RawRun {
     pub(super) rtol: Option<Spanned<f64>>,
     pub(super) atol: Option<Spanned<f64>>,
     pub(super) step: Option<Spanned<f64>>,
+    pub(super) max_steps: Option<Spanned<i64>>,
     pub(super) csv: Option<String>,
 }
 

@@ -7,13 +7,25 @@ use toml::Spanned;
 
 /// One angle from its rad or `_deg` key; both given is an error.
 pub(super) fn one_angle(key: &str, rad: Option<f64>, deg: Option<f64>) -> Result<Option<f64>, String> {
-    match (rad, deg) {
-        (Some(_), Some(_)) => Err(format!("both '{key}' and '{key}_deg' are given; give one")),
-        (Some(r), None) => Ok(Some(r)),
-        (None, Some(d)) => Ok(Some(d.to_radians())),
-        (None, None) => Ok(None),
+    let angle = match (rad, deg) {
+        (Some(_), Some(_)) => return Err(format!("both '{key}' and '{key}_deg' are given; give one")),
+        (Some(r), None) => r,
+        (None, Some(d)) => d.to_radians(),
+        (None, None) => return Ok(None),
+    };
+    // Beyond a thousand turns f64 keeps too few digits of the angle's fraction of a turn for
+    // the angle bookkeeping (and no structure is stowed a thousand turns round).
+    if angle.abs() > MAX_ANGLE {
+        return Err(format!(
+            "'{key}' is {angle:e} rad ({:e}°): angles are limited to ±1000 turns; give it modulo 360°",
+            angle.to_degrees()
+        ));
     }
+    Ok(Some(angle))
 }
+
+/// The largest angle accepted, rad: 1000 turns.
+const MAX_ANGLE: f64 = 2000.0 * std::f64::consts::PI;
 
 /// 3-2-1 angles from the six optional keys; `None` when none is given (missing ones are 0).
 pub(super) fn angles(

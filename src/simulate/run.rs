@@ -2,10 +2,10 @@
 //! law events, lock engagement, momentum restoration, and the conservation figures.
 
 use super::report::{Drift, RunReport, SimError};
-use super::settings::{Integrator, RunSettings};
+use super::settings::{Integrator, MIN_STEP_BUDGET, RunSettings};
 use crate::dynamics::newton::GraphNewton;
 use crate::dynamics::{Dynamics, LawEvent};
-use crate::integrate::{Control, Method, OdeError, Step, integrate, integrate_sdirk4};
+use crate::integrate::{Control, Limits, Method, OdeError, Step, integrate, integrate_sdirk4};
 use crate::kinematics::{InitialConditions, initial_state};
 use crate::law::EventKind;
 use crate::model::Model;
@@ -373,6 +373,9 @@ pub fn simulate(
     let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
     dynamics.initialize_memory(&y0);
+    if let Some(cause) = dynamics.non_finite_cause(&y0) {
+        return Err(SimError::Physics(format!("the initial state: {cause}")));
+    }
     dynamics.check_locks(&y0).map_err(SimError::Physics)?;
     // Initial rates along locked directions are removed (positions hold by construction).
     dynamics.project(&mut y0, true);
@@ -408,12 +411,13 @@ pub fn simulate(
         momenta: (implicit || dynamics.has_locks()).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
     };
+    let limits = settings.limits(model);
     let start = Instant::now();
     let mut differenced_jacobians = 0;
     let result = match settings.integrator {
         Integrator::Sdirk4 { rtol, atol } => {
             let mut newton = GraphNewton::new_exact(&dynamics, model, &dynamics);
-            let r = integrate_sdirk4(&dynamics, &mut newton, rtol, atol, 0.0, settings.duration, &y0, |step| {
+            let r = integrate_sdirk4(&dynamics, &mut newton, rtol, atol, limits, 0.0, settings.duration, &y0, |step| {
                 out.on_step(step)
             });
             differenced_jacobians = newton.jacobian_counts().1;
@@ -426,20 +430,11 @@ pub fn simulate(
                 Integrator::Rk4 { step } => Method::Rk4 { step },
                 Integrator::Sdirk4 { .. } => unreachable!("handled above"),
             };
-            integrate(&dynamics, method, 0.0, settings.duration, &y0, |step| out.on_step(step))
+            integrate(&dynamics, method, limits, 0.0, settings.duration, &y0, |step| out.on_step(step))
         }
     };
     let wall_seconds = start.elapsed().as_secs_f64();
-    let stats = result.map_err(|e| match e {
-        OdeError::Callback(e) => e,
-        OdeError::StepTooSmall { t, h } => SimError::Integrator {
-            t,
-            message: format!(
-                "the step size fell to {h:e} s, the round-off limit: the tolerances may be tighter than f64 allows, or the motion has become singular"
-            ),
-        },
-        OdeError::NonFinite { t } => SimError::Integrator { t, message: "the state became non-finite".into() },
-    })?;
+    let stats = result.map_err(|e| stopped(&dynamics, settings, &limits, e))?;
     if out.output_times.peek().is_some() {
         return Err(SimError::Integrator {
             t: out.t_reached,
@@ -465,4 +460,68 @@ pub fn simulate(
         jacobians: stats.jacobians,
         differenced_jacobians,
     })
+}
+
+/// Why the integrator stopped, in the user's terms: what it could not do, the hinge or body
+/// responsible (the fastest hinge direction, or the body whose state or acceleration is not
+/// finite), and what to change.
+fn stopped(dynamics: &Dynamics<'_>, settings: &RunSettings, limits: &Limits, e: OdeError<SimError>) -> SimError {
+    let model = dynamics.model();
+    let rate = model.fastest_hinge();
+    let fastest = rate.map(|r| format!(" The fastest hinge is {}.", r.describe(model))).unwrap_or_default();
+    let heading =
+        |y: &[f64]| dynamics.fastest_body(y).map(|b| format!(" At the last accepted state {b}.")).unwrap_or_default();
+    // Steps near the fastest hinge's period mean stiffness; steps far below it mean the
+    // tolerances ask for more than f64 gives, or the motion is singular.
+    let advice = |h: f64| {
+        if rate.is_some_and(|r| h.abs() * r.rate > 1e-2) {
+            " Make that hinge softer or its bodies heavier, or use integrator = \"sdirk4\", which steps over stiff vibrations."
+        } else {
+            " The steps are far shorter than any hinge's period: the tolerances (run.rtol, run.atol) may ask for more than f64 resolves (1e-13 and looser are usual), or the motion is near a singular configuration."
+        }
+    };
+    match e {
+        OdeError::Callback(e) => e,
+        OdeError::NonFinite { t, y } => SimError::Integrator {
+            t,
+            message: match dynamics.non_finite_cause(&y) {
+                Some(cause) => format!("the state became non-finite: {cause}"),
+                None => "the state became non-finite".into(),
+            },
+        },
+        OdeError::StepTooSmall { t, h, non_finite, y } => {
+            let message = match (non_finite, dynamics.non_finite_cause(&y)) {
+                (_, Some(cause)) => format!("the state became non-finite: {cause}"),
+                (true, None) => format!(
+                    "every step tried from here overflowed (non-finite values inside the step, down to steps of {h:.3e} s).{}{fastest}",
+                    heading(&y)
+                ),
+                (false, None) => format!(
+                    "the step size fell to {h:.3e} s, below the run's floor of {:.3e} s (1e-12 of its duration) or the round-off of t: the motion is faster than the run can follow.{fastest}{}{}",
+                    limits.min_step,
+                    heading(&y),
+                    advice(h)
+                ),
+            };
+            SimError::Integrator { t, message }
+        }
+        OdeError::TooManySteps { t, h, steps, y } => {
+            let budget = if settings.max_steps.is_some() {
+                "run.max_steps".to_string()
+            } else {
+                format!(
+                    "by default 10 × duration × the fastest hinge rate, at least {MIN_STEP_BUDGET:e}; set run.max_steps to change it"
+                )
+            };
+            SimError::Integrator {
+                t,
+                message: format!(
+                    "the run took {steps} steps, its budget ({budget}), with steps of {h:.3e} s at the end: at that pace it needs {:.1e} more.{fastest}{}{}",
+                    (settings.duration - t) / h.abs().max(f64::MIN_POSITIVE),
+                    heading(&y),
+                    advice(h)
+                ),
+            }
+        }
+    }
 }

@@ -1,4 +1,8 @@
-//! What a run is asked to do: duration, output step and integrator.
+//! What a run is asked to do: duration, output step and integrator, and the bounds that make
+//! every run end.
+
+use crate::integrate::Limits;
+use crate::model::Model;
 
 /// Time integration method.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,4 +61,45 @@ pub struct RunSettings {
     /// (see [`crate::dynamics::Dynamics::disengage_locks`]): the same motion at a higher
     /// cost, for comparison. Not a scenario key; false from a scenario.
     pub engage_locks_at_start: bool,
+    /// Most integration steps, accepted and rejected (`run.max_steps`); `None` for the
+    /// default of [`default_step_budget`].
+    pub max_steps: Option<usize>,
+}
+
+/// The step floor, as a fraction of the run's duration: a step-size control that wants
+/// smaller steps stops the run (explicit methods need steps of ~3 / the fastest hinge rate;
+/// below 1e-12 of the duration the run would take more than 1e12 steps).
+pub const MIN_STEP_OF_DURATION: f64 = 1e-12;
+
+/// The default step budget per radian of the fastest hinge motion over the run (see
+/// [`default_step_budget`]).
+pub const STEPS_PER_RADIAN: f64 = 10.0;
+
+/// The smallest default step budget.
+pub const MIN_STEP_BUDGET: f64 = 1e6;
+
+/// A default step budget beyond this many steps is refused when a scenario is loaded,
+/// unless `run.max_steps` is given: at a microsecond per step and hinge it would run for
+/// weeks.
+pub const MAX_DEFAULT_STEP_BUDGET: f64 = 1e9;
+
+/// The default step budget of a run of `duration` s: `max(1e6, 10 × duration × rate)` with
+/// `rate` the fastest hinge rate ([`crate::model::rates::HingeRate`], an upper bound on how
+/// fast any hinge direction can move). An explicit method needs about `duration × rate / 3`
+/// steps where the stiffest hinge limits it, so the budget is ~30 times what a run can need;
+/// a run that takes more has left the physics (a singular motion, tolerances beyond f64).
+pub fn default_step_budget(model: &Model, duration: f64) -> f64 {
+    let rate = model.fastest_hinge().map_or(0.0, |r| r.rate);
+    (STEPS_PER_RADIAN * duration * rate).max(MIN_STEP_BUDGET)
+}
+
+impl RunSettings {
+    /// The bounds the run holds its integrator to: steps no shorter than
+    /// [`MIN_STEP_OF_DURATION`] × duration, and at most `max_steps` of them.
+    pub fn limits(&self, model: &Model) -> Limits {
+        let max_steps = self
+            .max_steps
+            .unwrap_or_else(|| default_step_budget(model, self.duration).min(MAX_DEFAULT_STEP_BUDGET) as usize);
+        Limits { min_step: MIN_STEP_OF_DURATION * self.duration, max_steps }
+    }
 }

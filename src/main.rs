@@ -3,13 +3,17 @@
 use clap::{Parser, Subcommand};
 use foldsim::law::EventKind;
 use foldsim::law::directional::DIRECTION_NAMES;
+use foldsim::observe::Selection;
 use foldsim::output::CsvSink;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(Parser)]
 #[command(
@@ -24,14 +28,21 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scenario and write its outputs (MODEL.md §5) as CSV.
+    /// Run a scenario and write its outputs (docs/outputs.md) as CSV.
     Run {
         /// Scenario file (TOML; see docs/scenario.md).
         scenario: PathBuf,
         /// Output CSV. Default: `run.csv` from the scenario, else `<scenario name>.csv` in
-        /// the current directory.
+        /// the current directory. It may not be one of the run's input files.
         #[arg(long)]
         csv: Option<PathBuf>,
+        /// Columns to write, comma-separated names or patterns with * and ?, and the word
+        /// `default` for the default set (overrides `run.columns`), e.g. `t,h*_yaw,hub_w_*`.
+        #[arg(long, value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+        /// Write the output even if it is estimated above 1 GiB.
+        #[arg(long)]
+        large_output: bool,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
@@ -107,7 +118,9 @@ enum Shape {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { scenario, csv, quiet } => run(&scenario, csv, quiet),
+        Command::Run { scenario, csv, columns, large_output, quiet } => {
+            run(&scenario, csv, columns, large_output, quiet)
+        }
         Command::Generate {
             shape,
             panel_mass,
@@ -146,10 +159,17 @@ fn main() -> ExitCode {
 }
 
 fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>) -> Result<(), String> {
+    let max = foldsim::generate::MAX_PANELS;
     let text = match shape {
-        Shape::Zfold { panels } if panels >= 1 => foldsim::generate::zfold(panels, p),
-        Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 => foldsim::generate::grid(rows, cols, p),
-        _ => return Err("a z-fold needs --panels ≥ 1, a grid --rows ≥ 2 and --cols ≥ 2".into()),
+        Shape::Zfold { panels } if (1..=max).contains(&panels) => foldsim::generate::zfold(panels, p),
+        Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 && rows.saturating_mul(cols) <= max => {
+            foldsim::generate::grid(rows, cols, p)
+        }
+        _ => {
+            return Err(format!(
+                "a z-fold needs 1 ≤ --panels ≤ {max}, a grid --rows ≥ 2 and --cols ≥ 2 with rows × cols ≤ {max}"
+            ));
+        }
     };
     match output {
         None => {
@@ -160,14 +180,48 @@ fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>
     }
 }
 
-fn run(path: &Path, csv: Option<PathBuf>, quiet: bool) -> Result<(), String> {
+/// Output estimated above this many bytes is refused unless `--large-output` is given.
+const LARGE_OUTPUT: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Bytes a CSV field takes on average (shortest round-trip digits, sign, exponent, comma).
+const BYTES_PER_FIELD: f64 = 22.0;
+
+fn run(
+    path: &Path,
+    csv: Option<PathBuf>,
+    columns: Option<Vec<String>>,
+    large_output: bool,
+    quiet: bool,
+) -> Result<(), String> {
     let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
     let target = csv.or_else(|| scenario.csv.clone()).unwrap_or_else(|| {
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}.csv"))
     });
-    let mut sink = CsvSink::create(&target, &scenario.model)?;
-    let duration = scenario.settings.duration;
+    let columns = match columns {
+        Some(patterns) => Selection::matching(&scenario.model, &patterns).map_err(|m| format!("--columns: {m}"))?,
+        None => scenario.columns.clone(),
+    };
+    refuse_inputs(&target, &scenario.inputs)?;
+    let settings = &scenario.settings;
+    let rows = (settings.duration / settings.output_step).floor() + 2.0;
+    let bytes = rows * columns.names.len() as f64 * BYTES_PER_FIELD;
+    if bytes > LARGE_OUTPUT && !large_output {
+        return Err(format!(
+            "{}: this run would write about {:.1} GiB ({rows:.3e} rows of {} columns): raise run.output_step, choose fewer columns (run.columns or --columns), or pass --large-output to write it anyway",
+            path.display(),
+            bytes / LARGE_OUTPUT,
+            columns.names.len()
+        ));
+    }
+    let stale = target.is_file().then(|| target.clone());
+    let mut sink = CsvSink::create(&target, &columns)?;
+    let duration = settings.duration;
+
+    // Ctrl-C stops the run at its next step, which then says where it stopped.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
 
     let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = ProgressBar::new(1000);
@@ -183,8 +237,9 @@ fn run(path: &Path, csv: Option<PathBuf>, quiet: bool) -> Result<(), String> {
             b.set_position((1000.0 * t / duration) as u64);
             b.set_message(format!("{t:.3} s"));
         }
+        if interrupted.load(Ordering::SeqCst) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     };
-    let result = simulate(&scenario.model, &scenario.initial, &scenario.settings, &mut sink, Some(&mut tick));
+    let result = simulate(&scenario.model, &scenario.initial, settings, &mut sink, Some(&mut tick));
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -196,11 +251,33 @@ fn run(path: &Path, csv: Option<PathBuf>, quiet: bool) -> Result<(), String> {
             }
             Ok(())
         }
-        Err(e) => Err(format!(
-            "{}: {e}\nthe rows written before the failure are in {}",
-            path.display(),
-            sink.partial_path().display()
+        Err(e) => {
+            let partial = sink.partial_path().to_path_buf();
+            drop(sink);
+            let mut message =
+                format!("{}: {e}\nthe rows written before it stopped are in {}", path.display(), partial.display());
+            if let Some(old) = stale.filter(|old| *old != partial) {
+                message.push_str(&format!("\n{} is an earlier run's complete output, left as it was", old.display()));
+            }
+            Err(message)
+        }
+    }
+}
+
+/// Refuses an output path that is one of the run's inputs (the scenario or a table file):
+/// writing there would destroy it.
+fn refuse_inputs(target: &Path, inputs: &[PathBuf]) -> Result<(), String> {
+    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    match inputs.iter().find(|input| same(target, input)) {
+        Some(input) => Err(format!(
+            "the output {} is an input of this run ({}): name another file with --csv",
+            target.display(),
+            input.display()
         )),
+        None => Ok(()),
     }
 }
 
@@ -248,7 +325,7 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         d.angular_momentum,
         rel(d.angular_momentum, d.angular_momentum_scale)
     );
-    println!("    barycenter          {:.3e} m", d.barycenter);
+    println!("    barycenter          {:.3e} m (from Rc(0) + P(0) t / M)", d.barycenter);
     if d.locks > 0 {
         println!(
             "    locked directions   {} held within {:.3e} m and {:.3e} rad of their initial values",

@@ -17,14 +17,24 @@ pub struct Observation {
     pub hub_r_in_hub: Vec3,
     /// `θ_{B/N}`, continuous in time (yaw and roll unwrapped), rad.
     pub hub_theta: Euler321,
+    /// `ω_{B/N}`, rad/s, hub components.
+    pub hub_omega_in_hub: Vec3,
     /// Per hinge: δ, m, A0 components.
     pub hinge_delta_in_a0: Vec<Vec3>,
     /// Per hinge: `θ_{A/A0}`, continuous in time, rad.
     pub hinge_theta: Vec<Euler321>,
+    /// Per hinge: δ̇, the rate of δ's A0 components, m/s.
+    pub hinge_delta_rate_in_a0: Vec<Vec3>,
+    /// Per hinge: `ω_{A/A0}`, rad/s, A components.
+    pub hinge_omega_rel_in_a: Vec<Vec3>,
     /// Per body: CoM `R_i`, m, N components.
     pub body_r_in_n: Vec<Vec3>,
     /// Per body: `θ_{i/N}`, principal values, rad.
     pub body_theta: Vec<Euler321>,
+    /// Per body: CoM velocity `Ṙ_i`, m/s, N components.
+    pub body_v_in_n: Vec<Vec3>,
+    /// Per body: `ω_{i/N}`, rad/s, body components.
+    pub body_omega_in_body: Vec<Vec3>,
     /// Barycenter `Σ m_i R_i / Σ m_i`, m, N components.
     pub barycenter_in_n: Vec3,
     /// Linear momentum `Σ m_i Ṙ_i`, kg·m/s, N components.
@@ -83,13 +93,18 @@ impl Observer {
         let hub_theta = Euler321::from_dcm(&hub.dcm_n_b.transpose()).unwrapped_near(&self.hub_theta_ref);
         self.hub_theta_ref = hub_theta;
 
-        let mut hinge_delta_in_a0 = Vec::with_capacity(model.hinges.len());
-        let mut hinge_theta = Vec::with_capacity(model.hinges.len());
+        let nh = model.hinges.len();
+        let mut hinge_delta_in_a0 = Vec::with_capacity(nh);
+        let mut hinge_theta = Vec::with_capacity(nh);
+        let mut hinge_delta_rate_in_a0 = Vec::with_capacity(nh);
+        let mut hinge_omega_rel_in_a = Vec::with_capacity(nh);
         let mut hinge_energy = 0.0;
         for ((h, r), m) in model.hinges.iter().zip(theta_refs).zip(memories) {
             let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], r);
             hinge_delta_in_a0.push(k.state.delta_in_a0);
             hinge_theta.push(k.state.theta);
+            hinge_delta_rate_in_a0.push(k.state.delta_rate_in_a0);
+            hinge_omega_rel_in_a.push(k.state.omega_rel_in_a);
             hinge_energy += h.law.stored_energy(&k.state, m);
         }
         let d0 = crate::state::BODY_STATE_LEN * model.bodies.len();
@@ -118,10 +133,15 @@ impl Observer {
             hub_r_in_n: hub.r_in_n,
             hub_r_in_hub: hub.dcm_n_b.transpose() * hub.r_in_n,
             hub_theta,
+            hub_omega_in_hub: hub.omega_in_body(),
             hinge_delta_in_a0,
             hinge_theta,
+            hinge_delta_rate_in_a0,
+            hinge_omega_rel_in_a,
             body_r_in_n: motions.iter().map(|m| m.r_in_n).collect(),
             body_theta: motions.iter().map(|m| Euler321::from_dcm(&m.dcm_n_b.transpose())).collect(),
+            body_v_in_n: motions.iter().map(|m| m.v_in_n).collect(),
+            body_omega_in_body: motions.iter().map(|m| m.omega_in_body()).collect(),
             barycenter_in_n: mass_moment / model.total_mass(),
             momentum_in_n: momentum,
             angular_momentum_in_n: angular,
@@ -134,31 +154,51 @@ impl Observer {
     }
 }
 
-/// CSV column names for a model, in the order of [`row`] (names as in
-/// `../shared/reference/README.md`).
-pub fn columns(model: &Model) -> Vec<String> {
-    let mut c: Vec<String> = vec!["t".into()];
-    let xyz = |c: &mut Vec<String>, p: &str| c.extend(["x", "y", "z"].map(|a| format!("{p}_{a}")));
-    let ypr = |c: &mut Vec<String>, p: &str| c.extend(["yaw", "pitch", "roll"].map(|a| format!("{p}_{a}")));
-    xyz(&mut c, "R_B");
-    xyz(&mut c, "BR_B");
-    ypr(&mut c, "theta_B");
+/// One output column.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Column {
+    /// Its name in the CSV header.
+    pub name: String,
+    /// Whether it is written when no columns are chosen (see [`Selection`]).
+    pub default: bool,
+}
+
+/// Every output column a model has, in the order of [`row`]: the default set (time, the hub's
+/// pose and angular velocity, every hinge's δ, angles, δ̇ and ω_rel, every body's position
+/// and angles, the barycenter, momenta and energies), and per body its velocity and angular
+/// velocity, written only when chosen. Units and frames: `docs/outputs.md`.
+pub fn catalogue(model: &Model) -> Vec<Column> {
+    let mut c: Vec<Column> = Vec::new();
+    let push = |c: &mut Vec<Column>, prefix: &str, parts: [&str; 3], default: bool| {
+        c.extend(parts.map(|a| Column { name: format!("{prefix}_{a}"), default }))
+    };
+    const XYZ: [&str; 3] = ["x", "y", "z"];
+    const YPR: [&str; 3] = ["yaw", "pitch", "roll"];
+    c.push(Column { name: "t".into(), default: true });
+    push(&mut c, "R_B", XYZ, true);
+    push(&mut c, "BR_B", XYZ, true);
+    push(&mut c, "theta_B", YPR, true);
+    push(&mut c, "w_B", XYZ, true);
     for h in &model.hinges {
-        xyz(&mut c, &format!("{}_delta", h.name));
-        ypr(&mut c, &h.name);
+        push(&mut c, &format!("{}_delta", h.name), XYZ, true);
+        push(&mut c, &h.name, YPR, true);
+        push(&mut c, &format!("{}_delta_rate", h.name), XYZ, true);
+        push(&mut c, &format!("{}_wrel", h.name), XYZ, true);
     }
     for b in &model.bodies {
-        xyz(&mut c, &format!("{}_R", b.name));
-        ypr(&mut c, &b.name);
+        push(&mut c, &format!("{}_R", b.name), XYZ, true);
+        push(&mut c, &b.name, YPR, true);
+        push(&mut c, &format!("{}_v", b.name), XYZ, false);
+        push(&mut c, &format!("{}_w", b.name), XYZ, false);
     }
-    xyz(&mut c, "Rc");
-    xyz(&mut c, "P");
-    xyz(&mut c, "H");
-    c.extend(["T", "V", "E", "D"].map(String::from));
+    push(&mut c, "Rc", XYZ, true);
+    push(&mut c, "P", XYZ, true);
+    push(&mut c, "H", XYZ, true);
+    c.extend(["T", "V", "E", "D"].map(|n| Column { name: n.into(), default: true }));
     c
 }
 
-/// The values of an observation in the order of [`columns`].
+/// The values of an observation in the order of [`catalogue`].
 pub fn row(o: &Observation) -> Vec<f64> {
     let mut r = vec![o.t];
     let v = |r: &mut Vec<f64>, x: &Vec3| r.extend_from_slice(x.as_slice());
@@ -166,17 +206,91 @@ pub fn row(o: &Observation) -> Vec<f64> {
     v(&mut r, &o.hub_r_in_n);
     v(&mut r, &o.hub_r_in_hub);
     a(&mut r, &o.hub_theta);
-    for (d, t) in o.hinge_delta_in_a0.iter().zip(&o.hinge_theta) {
-        v(&mut r, d);
-        a(&mut r, t);
+    v(&mut r, &o.hub_omega_in_hub);
+    for i in 0..o.hinge_theta.len() {
+        v(&mut r, &o.hinge_delta_in_a0[i]);
+        a(&mut r, &o.hinge_theta[i]);
+        v(&mut r, &o.hinge_delta_rate_in_a0[i]);
+        v(&mut r, &o.hinge_omega_rel_in_a[i]);
     }
-    for (p, t) in o.body_r_in_n.iter().zip(&o.body_theta) {
-        v(&mut r, p);
-        a(&mut r, t);
+    for i in 0..o.body_r_in_n.len() {
+        v(&mut r, &o.body_r_in_n[i]);
+        a(&mut r, &o.body_theta[i]);
+        v(&mut r, &o.body_v_in_n[i]);
+        v(&mut r, &o.body_omega_in_body[i]);
     }
     v(&mut r, &o.barycenter_in_n);
     v(&mut r, &o.momentum_in_n);
     v(&mut r, &o.angular_momentum_in_n);
     r.extend_from_slice(&[o.kinetic_energy, o.hinge_energy, o.energy(), o.dissipated()]);
     r
+}
+
+/// Which columns of the [`catalogue`] are written: positions in it, in its order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Selection {
+    /// Positions in the catalogue, increasing.
+    pub indices: Vec<usize>,
+    /// Their names.
+    pub names: Vec<String>,
+}
+
+impl Selection {
+    /// The default columns.
+    pub fn default_for(model: &Model) -> Self {
+        Self::from_catalogue(catalogue(model), |c| c.default)
+    }
+
+    /// The columns matching any of `patterns`: names with `*` (any run of characters) and
+    /// `?` (one character), or the word `default` for the default set. `t` is always
+    /// written. Fails naming a pattern that matches no column.
+    pub fn matching(model: &Model, patterns: &[String]) -> Result<Self, String> {
+        let all = catalogue(model);
+        for p in patterns {
+            if p != "default" && !all.iter().any(|c| glob(p, &c.name)) {
+                let near: Vec<&str> = all.iter().map(|c| c.name.as_str()).take(8).collect();
+                return Err(format!(
+                    "column pattern '{p}' matches no output column (columns are like {}, …; patterns take * and ?, and the word default for the default set)",
+                    near.join(", ")
+                ));
+            }
+        }
+        Ok(Self::from_catalogue(all, |c| {
+            c.name == "t" || patterns.iter().any(|p| if p == "default" { c.default } else { glob(p, &c.name) })
+        }))
+    }
+
+    fn from_catalogue(all: Vec<Column>, keep: impl Fn(&Column) -> bool) -> Self {
+        let (indices, names) = all.into_iter().enumerate().filter(|(_, c)| keep(c)).map(|(i, c)| (i, c.name)).unzip();
+        Self { indices, names }
+    }
+
+    /// The selected values of a full [`row`].
+    pub fn pick<'r>(&'r self, row: &'r [f64]) -> impl Iterator<Item = f64> + 'r {
+        self.indices.iter().map(|&i| row[i])
+    }
+}
+
+/// Whether `name` matches `pattern` (`*`: any run of characters, `?`: one character).
+fn glob(pattern: &str, name: &str) -> bool {
+    let (p, n): (Vec<char>, Vec<char>) = (pattern.chars().collect(), name.chars().collect());
+    // Iterative matching with backtracking to the last star.
+    let (mut i, mut j, mut star, mut mark) = (0, 0, None, 0);
+    while j < n.len() {
+        if i < p.len() && (p[i] == '?' || p[i] == n[j]) {
+            i += 1;
+            j += 1;
+        } else if i < p.len() && p[i] == '*' {
+            star = Some(i);
+            mark = j;
+            i += 1;
+        } else if let Some(s) = star {
+            i = s + 1;
+            mark += 1;
+            j = mark;
+        } else {
+            return false;
+        }
+    }
+    p[i..].iter().all(|&c| c == '*')
 }

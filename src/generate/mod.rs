@@ -13,7 +13,7 @@ pub mod params;
 pub mod zfold;
 
 pub use grid::grid;
-pub use params::Params;
+pub use params::{MAX_PANELS, Params};
 pub use zfold::zfold;
 
 #[cfg(test)]

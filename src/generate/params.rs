@@ -3,6 +3,10 @@
 
 use std::fmt::Write;
 
+/// The most panels a generator writes: a scenario of 100,000 panels is ~30 MB of text, and
+/// its run ~2.4 million output columns.
+pub const MAX_PANELS: usize = 100_000;
+
 /// Stiffness, mass and run settings shared by the generators (SI units).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Params {

@@ -4,27 +4,33 @@
 //! a named pipe) is written to directly: renaming over it would replace the device or pipe
 //! with a file.
 
-use crate::model::Model;
-use crate::observe::{Observation, columns, row};
+use crate::observe::{Observation, Selection, row};
 use crate::simulate::Sink;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
-/// Streams observations as CSV rows (columns of [`columns`]) to a partial file, or straight
-/// to a target that is not a regular file.
+/// How often rows are flushed to the file at the latest, so that a long or stuck run's
+/// partial file shows its rows so far.
+pub const FLUSH_EVERY: Duration = Duration::from_secs(2);
+
+/// Streams observations as CSV rows (the columns of a [`Selection`]) to a partial file, or
+/// straight to a target that is not a regular file.
 pub struct CsvSink {
     writer: csv::Writer<BufWriter<File>>,
     /// The file written: `<target>.partial`, or the target itself when it is a device or a
     /// pipe.
     partial: PathBuf,
     target: PathBuf,
+    columns: Selection,
+    flushed: Instant,
 }
 
 impl CsvSink {
     /// Creates `<target>.partial` (or opens `target` itself if it exists and is not a
-    /// regular file) and writes the header.
-    pub fn create(target: &Path, model: &Model) -> Result<Self, String> {
+    /// regular file) and writes the header of `columns`.
+    pub fn create(target: &Path, columns: &Selection) -> Result<Self, String> {
         let partial = match std::fs::metadata(target) {
             Ok(m) if m.is_dir() => return Err(format!("{} is a directory: name a CSV file", target.display())),
             Ok(m) if !m.is_file() => target.to_path_buf(),
@@ -36,8 +42,16 @@ impl CsvSink {
         };
         let file = File::create(&partial).map_err(|e| format!("cannot create {}: {e}", partial.display()))?;
         let mut writer = csv::Writer::from_writer(BufWriter::new(file));
-        writer.write_record(columns(model)).map_err(|e| format!("{}: {e}", partial.display()))?;
-        Ok(Self { writer, partial, target: target.to_path_buf() })
+        let error = |e: &dyn std::fmt::Display| format!("{}: {e}", partial.display());
+        writer.write_record(&columns.names).map_err(|e| error(&e))?;
+        writer.flush().map_err(|e| error(&e))?;
+        Ok(Self {
+            writer,
+            partial: partial.clone(),
+            target: target.to_path_buf(),
+            columns: columns.clone(),
+            flushed: Instant::now(),
+        })
     }
 
     /// Flushes and renames the partial file to its final name.
@@ -65,10 +79,16 @@ impl Sink for CsvSink {
         let partial = &self.partial;
         let error = |e: csv::Error| format!("{}: {e}", partial.display());
         let mut buffer = ryu::Buffer::new();
-        for x in row(o) {
+        let values = row(o);
+        for x in self.columns.pick(&values) {
             self.writer.write_field(buffer.format(x)).map_err(error)?;
         }
-        self.writer.write_record(None::<&[u8]>).map_err(error)
+        self.writer.write_record(None::<&[u8]>).map_err(error)?;
+        if self.flushed.elapsed() >= FLUSH_EVERY {
+            self.writer.flush().map_err(|e| format!("{}: {e}", partial.display()))?;
+            self.flushed = Instant::now();
+        }
+        Ok(())
     }
 }
 
@@ -84,7 +104,7 @@ mod tests {
     fn csv_reads_back_exactly() {
         let s = crate::scenario::example_with("hinged-panels-1dof.toml", &["duration"], "2.0");
         let path = std::env::temp_dir().join(format!("foldsim-output-{}.csv", std::process::id()));
-        let mut csv = CsvSink::create(&path, &s.model).expect("created");
+        let mut csv = CsvSink::create(&path, &Selection::matching(&s.model, &["*".into()]).unwrap()).expect("created");
         let mut observed: Vec<Vec<f64>> = Vec::new();
         let mut sink = |o: &Observation| -> Result<(), String> {
             observed.push(row(o));

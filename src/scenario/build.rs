@@ -4,10 +4,11 @@
 use super::error::{Ctx, ScenarioError, enclosing_item};
 use super::laws::law;
 use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
-use super::values::{angles, check_finite, matrix, positive, vec3};
+use super::values::{angles, angular_rate, check_finite, matrix, positive, vec3};
 use crate::dynamics::Dynamics;
 use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist, initial_state};
 use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
+use crate::observe::{Selection, catalogue};
 use crate::simulate::settings::{MAX_DEFAULT_STEP_BUDGET, MIN_STEP_OF_DURATION, default_step_budget};
 use crate::simulate::{Integrator, RunSettings};
 use std::collections::HashMap;
@@ -27,6 +28,11 @@ pub struct Scenario {
     pub settings: RunSettings,
     /// Output CSV path from `run.csv`, resolved against the scenario file's directory.
     pub csv: Option<PathBuf>,
+    /// The output columns written (`run.columns`; the default set if not given).
+    pub columns: Selection,
+    /// The files read to make it: the scenario file (when read from one) and every table
+    /// file. No output may be written over them.
+    pub inputs: Vec<PathBuf>,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -45,6 +51,7 @@ impl Scenario {
         if let Some(csv) = &s.csv {
             s.csv = Some(base.join(csv));
         }
+        s.inputs.insert(0, path.to_path_buf());
         Ok(s)
     }
 
@@ -56,7 +63,7 @@ impl Scenario {
 
     /// As [`Scenario::from_toml`], resolving relative table paths against `base`.
     pub fn from_toml_in(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
-        let ctx = Ctx { file, text, base };
+        let ctx = Ctx { file, text, base, inputs: Default::default() };
         let raw: RawScenario = toml::from_str(text).map_err(|e| {
             let message = e.message().trim().to_string();
             let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
@@ -219,7 +226,8 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         let r = hub.get_ref();
         ic.hub_position_in_n = vec3(r.position);
         ic.hub_velocity_in_n = vec3(r.velocity);
-        ic.hub_omega_in_hub = vec3(r.omega);
+        ic.hub_omega_in_hub = angular_rate("omega", r.omega, r.omega_deg_s, r.omega_rpm)
+            .map_err(|m| ctx.span(hub, format!("initial.hub: {m}")))?;
         ic.hub_attitude = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
             .map_err(|m| ctx.span(hub, format!("initial.hub: {m}")))?
             .unwrap_or_default();
@@ -243,7 +251,8 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             twist: RelativeTwist {
                 delta_in_a0: vec3(r.delta),
                 delta_rate_in_a0: vec3(r.delta_rate),
-                omega_rel_in_a: vec3(r.omega_rel),
+                omega_rel_in_a: angular_rate("omega_rel", r.omega_rel, r.omega_rel_deg_s, r.omega_rel_rpm)
+                    .map_err(|m| ctx.span(v, format!("initial.hinge.{}: {m}", key.get_ref())))?,
             },
             theta,
         });
@@ -288,10 +297,9 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         }
     }
 
-    let columns = crate::observe::columns(&model);
     let mut seen = std::collections::HashSet::new();
-    for c in &columns {
-        if !seen.insert(c) {
+    for c in catalogue(&model).iter().map(|c| &c.name) {
+        if !seen.insert(c.clone()) {
             return Err(ctx.at(
                 None,
                 format!("output column '{c}' would appear twice; rename the body or hinge whose name makes it"),
@@ -328,7 +336,21 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         }
     }
 
-    Ok(Scenario { title: raw.title, model, initial: ic, settings, csv: run.csv.as_ref().map(PathBuf::from) })
+    let columns = match &run.columns {
+        None => Selection::default_for(&model),
+        Some(patterns) => Selection::matching(&model, patterns.get_ref())
+            .map_err(|m| ctx.span(patterns, format!("run.columns: {m}")))?,
+    };
+
+    Ok(Scenario {
+        title: raw.title,
+        model,
+        initial: ic,
+        settings,
+        csv: run.csv.as_ref().map(PathBuf::from),
+        columns,
+        inputs: ctx.inputs.take(),
+    })
 }
 
 fn check_name(ctx: &Ctx<'_>, name: &Spanned<String>, what: &str) -> Result<(), ScenarioError> {

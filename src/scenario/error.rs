@@ -32,6 +32,8 @@ pub(super) struct Ctx<'a> {
     pub(super) text: &'a str,
     /// Directory that relative paths in the file are resolved against.
     pub(super) base: &'a Path,
+    /// Files read while building (tables), in order.
+    pub(super) inputs: std::cell::RefCell<Vec<std::path::PathBuf>>,
 }
 
 impl Ctx<'_> {

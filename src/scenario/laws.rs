@@ -310,6 +310,7 @@ fn table2(
         return Err(ctx.span(&r.other, format!("hinge '{hinge}' law.{name}.table2d.other must be another direction")));
     }
     let path = ctx.base.join(&r.file);
+    ctx.inputs.borrow_mut().push(path.clone());
     let grid = Table::read_grid_csv(&path).map_err(&here)?;
     if grid.u_angle != rotational || grid.v_angle != (other >= 3) {
         return Err(here(format!(
@@ -345,6 +346,7 @@ fn table(
     let points = match (&r.file, &r.points) {
         (Some(file), None) => {
             let path = ctx.base.join(file);
+            ctx.inputs.borrow_mut().push(path.clone());
             let (points, is_angle) = Table::read_csv(&path).map_err(&here)?;
             if is_angle != rotational {
                 return Err(here(format!(

@@ -29,6 +29,7 @@ pub(super) struct RawRun {
     pub(super) atol: Option<Spanned<f64>>,
     pub(super) step: Option<Spanned<f64>>,
     pub(super) max_steps: Option<Spanned<i64>>,
+    pub(super) columns: Option<Spanned<Vec<String>>>,
     pub(super) csv: Option<String>,
 }
 
@@ -192,6 +193,8 @@ pub(super) struct RawHubInitial {
     pub(super) position: Option<[f64; 3]>,
     pub(super) velocity: Option<[f64; 3]>,
     pub(super) omega: Option<[f64; 3]>,
+    pub(super) omega_deg_s: Option<[f64; 3]>,
+    pub(super) omega_rpm: Option<[f64; 3]>,
     pub(super) yaw: Option<f64>,
     pub(super) yaw_deg: Option<f64>,
     pub(super) pitch: Option<f64>,
@@ -206,6 +209,8 @@ pub(super) struct RawHingeInitial {
     pub(super) delta: Option<[f64; 3]>,
     pub(super) delta_rate: Option<[f64; 3]>,
     pub(super) omega_rel: Option<[f64; 3]>,
+    pub(super) omega_rel_deg_s: Option<[f64; 3]>,
+    pub(super) omega_rel_rpm: Option<[f64; 3]>,
     pub(super) yaw: Option<f64>,
     pub(super) yaw_deg: Option<f64>,
     pub(super) pitch: Option<f64>,

@@ -49,6 +49,22 @@ pub(super) fn vec3(a: Option<[f64; 3]>) -> Vec3 {
     a.map_or_else(Vec3::zeros, |v| Vec3::new(v[0], v[1], v[2]))
 }
 
+/// An angular velocity from its rad/s key or its `_deg_s` (°/s) or `_rpm` (turns per
+/// minute) variant, rad/s; at most one may be given; zero if none is.
+pub(super) fn angular_rate(
+    key: &str,
+    rad_s: Option<[f64; 3]>,
+    deg_s: Option<[f64; 3]>,
+    rpm: Option<[f64; 3]>,
+) -> Result<Vec3, String> {
+    match (rad_s, deg_s, rpm) {
+        (w, None, None) => Ok(vec3(w)),
+        (None, Some(w), None) => Ok(vec3(Some(w)).map(f64::to_radians)),
+        (None, None, Some(w)) => Ok(vec3(Some(w)) * (2.0 * std::f64::consts::PI / 60.0)),
+        _ => Err(format!("give one of '{key}' (rad/s), '{key}_deg_s' (°/s) and '{key}_rpm' (rev/min)")),
+    }
+}
+
 pub(super) fn number(v: &toml::Value) -> Option<f64> {
     match v {
         toml::Value::Float(x) => Some(*x),

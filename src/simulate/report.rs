@@ -15,7 +15,8 @@ pub struct Drift {
     pub angular_momentum: f64,
     /// max Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|) over the run, kg·m²/s.
     pub angular_momentum_scale: f64,
-    /// max |R_c(t) − R_c(0)|, m.
+    /// max |R_c(t) − (R_c(0) + P(0) t / M)|, m: the departure from the uniform motion that
+    /// the initial momentum gives the barycenter (zero for a system at rest).
     pub barycenter: f64,
     /// max |E(t) − E(0)|, J.
     pub energy: f64,
@@ -96,6 +97,12 @@ pub enum SimError {
     /// The physics left the model's domain (e.g. gimbal lock of a hinge's Euler angles).
     #[error("{0}")]
     Physics(String),
+    /// The progress callback asked the run to stop (Ctrl-C).
+    #[error("interrupted at t = {t} s")]
+    Interrupted {
+        /// Time reached, s.
+        t: f64,
+    },
     /// The output sink failed.
     #[error("writing output: {0}")]
     Output(String),

@@ -11,6 +11,7 @@ use crate::law::EventKind;
 use crate::model::Model;
 use crate::observe::{Observation, Observer};
 use crate::state::BODY_STATE_LEN;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 /// Receives output rows in time order.
@@ -27,9 +28,11 @@ impl<F: FnMut(&Observation) -> Result<(), String>> Sink for F {
 
 struct StreamOut<'d, 'm, 's, 'p> {
     dynamics: &'d Dynamics<'m>,
+    /// Σ m_i, kg.
+    total_mass: f64,
     observer: Observer,
     sink: &'s mut dyn Sink,
-    progress: Option<&'p mut dyn FnMut(f64)>,
+    progress: Option<&'p mut dyn FnMut(f64) -> ControlFlow<()>>,
     output_times: OutputTimes,
     first: Option<Observation>,
     last: Option<Observation>,
@@ -94,7 +97,9 @@ impl StreamOut<'_, '_, '_, '_> {
             let d = &mut self.drift;
             d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n).norm());
             d.angular_momentum = d.angular_momentum.max((o.angular_momentum_in_n - first.angular_momentum_in_n).norm());
-            d.barycenter = d.barycenter.max((o.barycenter_in_n - first.barycenter_in_n).norm());
+            // The barycenter moves uniformly with the initial momentum: Rc(0) + P(0) t / M.
+            let uniform = first.barycenter_in_n + first.momentum_in_n * ((o.t - first.t) / self.total_mass);
+            d.barycenter = d.barycenter.max((o.barycenter_in_n - uniform).norm());
             d.energy = d.energy.max((o.energy() - first.energy()).abs());
             d.energy_final_change = o.energy() - first.energy();
             d.dissipated = o.dissipated();
@@ -318,9 +323,7 @@ impl StreamOut<'_, '_, '_, '_> {
             self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
             self.apply_event(k, step.t, step.y)?;
             self.t_reached = step.t;
-            if let Some(p) = self.progress.as_mut() {
-                p(step.t);
-            }
+            self.report_progress(step.t)?;
             let mut y = step.y.to_vec();
             self.correct(&mut y);
             return Ok(Control::Restart { t: step.t, y });
@@ -335,9 +338,7 @@ impl StreamOut<'_, '_, '_, '_> {
             self.dynamics.event_values(step.y, &mut self.g_prev);
         }
         self.t_reached = step.t;
-        if let Some(p) = self.progress.as_mut() {
-            p(step.t);
-        }
+        self.report_progress(step.t)?;
         if step.t > step.t_prev && (self.dynamics.has_locks() || self.momenta.is_some()) {
             let mut y = step.y.to_vec();
             if self.correct(&mut y) {
@@ -345,6 +346,14 @@ impl StreamOut<'_, '_, '_, '_> {
             }
         }
         Ok(Control::Continue)
+    }
+
+    /// Tells the progress callback the time reached; stops the run if it asks to.
+    fn report_progress(&mut self, t: f64) -> Result<(), SimError> {
+        match self.progress.as_mut().map(|p| p(t)) {
+            Some(ControlFlow::Break(())) => Err(SimError::Interrupted { t }),
+            _ => Ok(()),
+        }
     }
 
     /// Holds locked directions on their constraints once they drift, and the momenta where
@@ -362,13 +371,14 @@ impl StreamOut<'_, '_, '_, '_> {
 }
 
 /// Runs a simulation from `ic`, streaming every output row to `sink`. `progress` is called
-/// with the simulated time after each accepted step.
+/// with the simulated time after each accepted step; returning `ControlFlow::Break` stops the
+/// run with [`SimError::Interrupted`] (how a Ctrl-C reaches it).
 pub fn simulate(
     model: &Model,
     ic: &InitialConditions,
     settings: &RunSettings,
     sink: &mut dyn Sink,
-    progress: Option<&mut dyn FnMut(f64)>,
+    progress: Option<&mut dyn FnMut(f64) -> ControlFlow<()>>,
 ) -> Result<RunReport, SimError> {
     let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
@@ -387,6 +397,7 @@ pub fn simulate(
     let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
     let mut out = StreamOut {
         dynamics: &dynamics,
+        total_mass: model.total_mass(),
         observer: Observer::new(ic.hub_attitude),
         sink,
         progress,

@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use foldsim::observe::{Observation, columns, row};
+use foldsim::observe::{Observation, catalogue, row};
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};
 use std::path::{Path, PathBuf};
@@ -36,7 +36,8 @@ pub fn run(s: &Scenario) -> (Table, Vec<Observation>, RunReport) {
         Ok(())
     };
     let report = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).unwrap_or_else(|e| panic!("{e}"));
-    let table = Table { columns: columns(&s.model), rows: observations.iter().map(row).collect() };
+    let columns = catalogue(&s.model).into_iter().map(|c| c.name).collect();
+    let table = Table { columns, rows: observations.iter().map(row).collect() };
     (table, observations, report)
 }
 

@@ -1,0 +1,224 @@
+//! What a run writes, and when it must not: the output's size estimated and refused past a
+//! limit, columns chosen, rows flushed while a run goes, Ctrl-C answered, inputs never
+//! overwritten, an earlier run's output named, the rate columns right, rates given in rpm and
+//! °/s, and the generators bounded.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn foldsim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_foldsim"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("foldsim-outputs-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn example(name: &str) -> String {
+    std::fs::read_to_string(common::repo(&format!("examples/{name}"))).unwrap()
+}
+
+/// Writes `text` as a scenario in `dir` and runs it with `args`: (success, stdout, stderr).
+fn run_text(dir: &Path, text: &str, args: &[&str]) -> (bool, String, String) {
+    let scenario = dir.join("s.toml");
+    std::fs::write(&scenario, text).unwrap();
+    let out = foldsim().arg("run").arg(&scenario).args(args).output().unwrap();
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+/// `duration = 1e12` or `output_step = 1e-12` would write without bound: refused before any
+/// file is made, with the size, what to change and the flag that insists.
+#[test]
+fn unbounded_output_is_refused_before_the_run() {
+    let dir = tmp("size");
+    let base = example("paper-1panel.toml");
+    // 1e12 s: refused at load by the step budget (it could not end in any case).
+    let csv = dir.join("out.csv");
+    let (ok, _, err) =
+        run_text(&dir, &base.replace("duration = 20.0", "duration = 1e12"), &["--csv", csv.to_str().unwrap()]);
+    assert!(!ok && err.contains("steps"), "{err}");
+    assert!(!csv.exists() && !dir.join("out.csv.partial").exists(), "a file was made");
+    // 4e14 rows.
+    assert!(base.contains("output_step = 0.05"));
+    let (ok, _, err) =
+        run_text(&dir, &base.replace("output_step = 0.05", "output_step = 5e-14"), &["--csv", csv.to_str().unwrap()]);
+    assert!(!ok);
+    for needle in ["GiB", "run.output_step", "--columns", "--large-output"] {
+        assert!(err.contains(needle), "lacks '{needle}': {err}");
+    }
+    assert!(!csv.exists() && !dir.join("out.csv.partial").exists(), "a file was made");
+}
+
+/// Columns chosen on the command line or in the scenario; patterns that match nothing are
+/// refused naming the pattern.
+#[test]
+fn columns_can_be_chosen() {
+    let dir = tmp("columns");
+    let csv = dir.join("out.csv");
+    let base = example("paper-3panel.toml");
+    let (ok, _, err) =
+        run_text(&dir, &base, &["-q", "--csv", csv.to_str().unwrap(), "--columns", "h?_yaw,h3?_yaw,w_B_z"]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().next().unwrap(), "t,w_B_z,h1_yaw,h2_yaw,h31_yaw,h32_yaw");
+    assert_eq!(text.lines().nth(1).unwrap().split(',').count(), 6);
+
+    let with_key = base.replace("[run]\n", "[run]\ncolumns = [\"default\", \"p1_v_?\"]\n");
+    assert!(with_key.contains("columns ="));
+    let (ok, _, err) = run_text(&dir, &with_key, &["-q", "--csv", csv.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let header = std::fs::read_to_string(&csv).unwrap().lines().next().unwrap().to_string();
+    assert!(
+        header.contains("p1_v_x,p1_v_y,p1_v_z") && header.contains("h1_wrel_z") && !header.contains("p1_w_x"),
+        "{header}"
+    );
+
+    let (ok, _, err) = run_text(&dir, &base, &["-q", "--csv", csv.to_str().unwrap(), "--columns", "t,nosuch*"]);
+    assert!(!ok && err.contains("'nosuch*'") && err.contains("matches no output column"), "{err}");
+}
+
+/// A long run's partial file has its header at once and rows within a few seconds (they
+/// were held in a buffer: a stuck run left a 0-byte file after a minute), and Ctrl-C stops
+/// it saying where it stopped and where its rows are.
+#[cfg(unix)]
+#[test]
+fn a_long_run_shows_its_rows_and_stops_on_ctrl_c() {
+    let dir = tmp("sigint");
+    let scenario = dir.join("long.toml");
+    // A 64-panel chain for 1e4 s: an hour of work, whose output (one row per second) is small.
+    let text = foldsim::generate::zfold(
+        64,
+        &foldsim::generate::Params { duration: 1e4, output_step: 1.0, ..Default::default() },
+    );
+    std::fs::write(&scenario, text).unwrap();
+    let csv = dir.join("long.csv");
+    let partial = dir.join("long.csv.partial");
+    let mut child = foldsim()
+        .args(["run", scenario.to_str().unwrap(), "-q", "--csv", csv.to_str().unwrap()])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let lines = |p: &Path| std::fs::read_to_string(p).map(|t| t.lines().count()).unwrap_or(0);
+    while lines(&partial) < 1 && start.elapsed() < Duration::from_secs(10) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(lines(&partial) >= 1, "no header in the partial file after {:?}", start.elapsed());
+    while lines(&partial) < 2 && start.elapsed() < Duration::from_secs(15) {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    assert!(lines(&partial) >= 2, "no row in the partial file after {:?}", start.elapsed());
+    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    assert!(!status.success());
+    assert!(err.contains("interrupted at t =") && err.contains("long.csv.partial"), "{err}");
+    assert!(!csv.exists());
+}
+
+/// `--csv` naming the scenario or one of its table files is refused and the file is left as
+/// it was (it overwrote the scenario).
+#[test]
+fn an_input_is_never_written_over() {
+    let dir = tmp("inputs");
+    let scenario = dir.join("s.toml");
+    let text = example("paper-1panel.toml");
+    std::fs::write(&scenario, &text).unwrap();
+    let out = foldsim().arg("run").arg(&scenario).arg("--csv").arg(&scenario).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("is an input of this run"), "{err}");
+    assert_eq!(std::fs::read_to_string(&scenario).unwrap(), text);
+
+    let table = common::repo("examples/tables/fold-twist.csv");
+    let before = std::fs::read(&table).unwrap();
+    let out = foldsim()
+        .arg("run")
+        .arg(common::repo("examples/zfold-tape-latch.toml"))
+        .arg("--csv")
+        .arg(common::repo("examples/tables/../tables/tape-spring-increasing.csv"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("tape-spring-increasing.csv"), "{err}");
+    assert_eq!(std::fs::read(&table).unwrap(), before);
+}
+
+/// A failed run beside an earlier run's complete output says the complete file is the
+/// earlier run's (it said nothing of it).
+#[test]
+fn an_earlier_output_is_named_when_a_run_fails() {
+    let dir = tmp("stale");
+    let csv = dir.join("out.csv");
+    let good = example("paper-1panel-euler.toml");
+    let (ok, _, err) = run_text(&dir, &good, &["-q", "--csv", csv.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let bad = good
+        .replace("[initial.body.panel]\nroll_deg = 10.0\npitch_deg = 20.0\nyaw_deg = 30.0\n", "")
+        .replace("delta = [0.01, 0.01, 0.01]      # m, A0 frame", "pitch_deg = 85.0\nomega_rel = [0.0, 20.0, 0.0]");
+    let (ok, _, err) = run_text(&dir, &bad, &["-q", "--csv", csv.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(err.contains("out.csv.partial") && err.contains("earlier run's complete output"), "{err}");
+}
+
+/// The rate columns: `<hinge>_wrel_z` is the yaw rate of a fold about A's z axis, checked
+/// against the central difference of the yaw column (1-panel law-2 case, pitch and roll
+/// small: `ω_rel = B(θ) θ̇`, so `wrel_z = θ̇1 − sin θ2 θ̇3`... compared with the full
+/// relation below), and `w_B` against `B(θ_B) θ̇_B` likewise; rates given in rpm and °/s
+/// arrive as rad/s.
+#[test]
+fn rate_columns_match_the_angles_they_differentiate() {
+    use foldsim::math::Euler321;
+    let mut s =
+        common::example_variant("paper-1panel-euler.toml", &[(&["output_step"], "0.001"), (&["duration"], "2.0")]);
+    s.columns = foldsim::observe::Selection::default_for(&s.model);
+    let (table, _, _) = common::run(&s);
+    let (yaw, pitch, roll) = (table.col("h1_yaw"), table.col("h1_pitch"), table.col("h1_roll"));
+    let w = [table.col("h1_wrel_x"), table.col("h1_wrel_y"), table.col("h1_wrel_z")];
+    let mut worst = 0.0f64;
+    for k in 1..table.rows.len() - 1 {
+        let (a, b, c) = (&table.rows[k - 1], &table.rows[k], &table.rows[k + 1]);
+        let rate = |i: usize| (c[i] - a[i]) / 0.002;
+        let theta_rate = foldsim::math::Vec3::new(rate(yaw), rate(pitch), rate(roll));
+        let omega = Euler321::new(b[yaw], b[pitch], b[roll]).rate_matrix() * theta_rate;
+        for (j, &col) in w.iter().enumerate() {
+            worst = worst.max((omega[j] - b[col]).abs());
+        }
+    }
+    // Central differences at 1 ms on motions of a few rad/s: error ~ h² θ⃛ / 6 ≈ 1e-6.
+    assert!(worst < 1e-4, "ω_rel columns differ from B(θ) θ̇ by {worst:e} rad/s");
+
+    let text = example("paper-1panel.toml");
+    for (key, expected) in [
+        ("omega_rpm = [0.0, 0.0, 60.0]", 2.0 * std::f64::consts::PI),
+        ("omega_deg_s = [0.0, 0.0, 90.0]", std::f64::consts::FRAC_PI_2),
+    ] {
+        assert!(text.contains("omega = [0.0, 0.0, 0.0]"));
+        let with = text.replace("omega = [0.0, 0.0, 0.0]", key);
+        let s = foldsim::scenario::Scenario::from_toml_in(&with, "rpm", &common::repo("examples"))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!((s.initial.hub_omega_in_hub.z - expected).abs() < 1e-15, "{key}");
+    }
+    let both = text.replace("omega = [0.0, 0.0, 0.0]", "omega = [0.0, 0.0, 1.0]\nomega_rpm = [0.0, 0.0, 1.0]");
+    let e = foldsim::scenario::Scenario::from_toml(&both, "both").unwrap_err();
+    assert!(e.message.contains("omega_rpm") && e.location.is_some(), "{e}");
+}
+
+/// The generators refuse sizes that would exhaust memory (`--rows 4294967296` grew past
+/// 4 GB), at once.
+#[test]
+fn generators_are_bounded() {
+    let start = Instant::now();
+    let out = foldsim().args(["generate", "grid", "--rows", "4294967296", "--cols", "2"]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("100000"), "{err}");
+    let out = foldsim().args(["generate", "zfold", "--panels", "100001"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(start.elapsed() < Duration::from_secs(10));
+}

@@ -222,3 +222,52 @@ fn generators_are_bounded() {
     assert!(!out.status.success());
     assert!(start.elapsed() < Duration::from_secs(10));
 }
+
+/// `foldsim plot` never returned on a column holding ±inf or only NaN, and drew a single NaN
+/// as a spike: now it skips non-finite points (gaps), finishes, and refuses columns with no
+/// finite value at all, naming them.
+#[cfg(feature = "plot")]
+#[test]
+fn plot_skips_non_finite_points_and_ends() {
+    let dir = tmp("plot");
+    let csv = dir.join("odd.csv");
+    let mut text = String::from("t,h1_yaw,E,allnan\n");
+    for k in 0..50 {
+        let t = k as f64 * 0.1;
+        let yaw = if k == 20 { "NaN".to_string() } else { format!("{}", t.sin()) };
+        let e = if k == 30 {
+            "inf".to_string()
+        } else if k == 31 {
+            "-inf".to_string()
+        } else {
+            format!("{}", t * t)
+        };
+        text.push_str(&format!("{t},{yaw},{e},NaN\n"));
+    }
+    std::fs::write(&csv, text).unwrap();
+    let png = dir.join("odd.png");
+    let mut child = foldsim()
+        .args(["plot", csv.to_str().unwrap(), "--columns", "h1_yaw,E,allnan", "-o", png.to_str().unwrap()])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(20) {
+            child.kill().unwrap();
+            panic!("foldsim plot did not return within 20 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(status.success());
+    assert!(std::fs::metadata(&png).unwrap().len() > 1000, "a PNG was written");
+    let out = foldsim()
+        .args(["plot", csv.to_str().unwrap(), "--columns", "allnan", "-o", png.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("allnan") && err.contains("no finite value"), "{err}");
+}

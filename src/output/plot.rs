@@ -15,8 +15,37 @@ fn register() {
     });
 }
 
+/// The unit of an output column, from its name (the catalogue's naming: docs/outputs.md);
+/// empty if the name is not one of foldsim's.
+pub fn unit_of(column: &str) -> &'static str {
+    let ends = |suffixes: &[&str]| suffixes.iter().any(|s| column.ends_with(s));
+    let xyz = |stem: &str| ["x", "y", "z"].iter().any(|a| column.ends_with(&format!("{stem}_{a}")));
+    if column == "t" {
+        "s"
+    } else if ends(&["_yaw", "_pitch", "_roll"]) {
+        "rad"
+    } else if xyz("_delta_rate") || xyz("_v") {
+        "m/s"
+    } else if xyz("_wrel") || xyz("_w") || (column.starts_with("w_B_") && xyz("w_B")) {
+        "rad/s"
+    } else if xyz("_delta") || xyz("_R") || xyz("R_B") || xyz("Rc") {
+        "m"
+    } else if xyz("P") && column.len() == 3 {
+        "kg·m/s"
+    } else if xyz("H") && column.len() == 3 {
+        "kg·m²/s"
+    } else if ["T", "V", "E", "D"].contains(&column) {
+        "J"
+    } else {
+        ""
+    }
+}
+
 /// Plots `columns` of the foldsim CSV `csv` against `t` into the PNG `out`. With `degrees`,
-/// angle columns (ending in `_yaw`, `_pitch`, `_roll`) are shown in degrees.
+/// angle columns (ending in `_yaw`, `_pitch`, `_roll`) are shown in degrees. Non-finite
+/// values (NaN, ±inf) are left out, as gaps in their lines; a plot whose columns have no
+/// finite value is refused. The y axis carries the columns' unit when they share one (else
+/// each legend entry does); an empty `title` becomes the columns and the file's name.
 pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, out: &Path) -> Result<(), String> {
     register();
     let mut reader = csv::Reader::from_path(csv).map_err(|e| format!("cannot read {}: {e}", csv.display()))?;
@@ -44,41 +73,80 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
             s.push(if degrees && is_angle(name) { v.to_degrees() } else { v });
         }
     }
-    if t.is_empty() {
-        return Err(format!("{}: no rows", csv.display()));
+    let finite_t: Vec<f64> = t.iter().copied().filter(|x| x.is_finite()).collect();
+    if finite_t.is_empty() {
+        return Err(format!("{}: no rows with a finite time", csv.display()));
     }
-    let (t0, t1) = (t[0], *t.last().unwrap_or(&t[0]));
+    let (t0, t1) = finite_t.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in series.iter().flatten() {
-        lo = lo.min(*v);
-        hi = hi.max(*v);
+    for (tk, v) in series.iter().flat_map(|s| t.iter().zip(s)) {
+        if tk.is_finite() && v.is_finite() {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
     }
-    let pad = 0.05 * (hi - lo).max(1e-12);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(format!("{}: the columns {} have no finite value to plot", csv.display(), columns.join(", ")));
+    }
+    let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
+    let units: Vec<&str> = columns.iter().map(|c| if degrees && is_angle(c) { "deg" } else { unit_of(c) }).collect();
+    let shared = units.iter().all(|u| *u == units[0]);
+    let y_desc = match (shared, units[0]) {
+        (true, "") => "value".to_string(),
+        (true, u) => format!("value ({u})"),
+        (false, _) => "value (units in the legend)".to_string(),
+    };
+    let title = if title.is_empty() {
+        format!("{} — {}", columns.join(", "), csv.file_name().map_or_else(String::new, |f| f.to_string_lossy().into()))
+    } else {
+        title.to_string()
+    };
     let root = BitMapBackend::new(out, (1200, 700)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| format!("plotting {}: {e}", out.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 26))
+        .caption(&title, ("sans-serif", 26))
         .margin(15)
         .x_label_area_size(45)
-        .y_label_area_size(70)
+        .y_label_area_size(90)
         .build_cartesian_2d(t0..t1.max(t0 + 1e-12), (lo - pad)..(hi + pad))
         .map_err(|e| err(&e))?;
-    let unit = if degrees && columns.iter().all(|c| is_angle(c)) { " (deg)" } else { "" };
     chart
         .configure_mesh()
         .x_desc("t (s)")
-        .y_desc(format!("value{unit}"))
+        .y_desc(y_desc)
         .label_style(("sans-serif", 16))
         .draw()
         .map_err(|e| err(&e))?;
     for (i, (s, name)) in series.iter().zip(columns).enumerate() {
         let color = Palette99::pick(i).to_rgba();
-        chart
-            .draw_series(LineSeries::new(t.iter().copied().zip(s.iter().copied()), color.stroke_width(2)))
-            .map_err(|e| err(&e))?
-            .label(name.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+        let label = if shared || units[i].is_empty() { name.clone() } else { format!("{name} ({})", units[i]) };
+        // One line per run of finite points: a non-finite value is a gap, not a spike.
+        let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+        for (&tk, &v) in t.iter().zip(s) {
+            if tk.is_finite() && v.is_finite() {
+                runs.last_mut().expect("one run at least").push((tk, v));
+            } else if !runs.last().expect("one run at least").is_empty() {
+                runs.push(Vec::new());
+            }
+        }
+        if runs.iter().all(Vec::is_empty) {
+            // Nothing to draw: say so in the legend.
+            let label = format!("{name} (no finite value)");
+            chart
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                .map_err(|e| err(&e))?
+                .label(label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+        }
+        for (k, run) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
+            let drawn = chart.draw_series(LineSeries::new(run, color.stroke_width(2))).map_err(|e| err(&e))?;
+            if k == 0 {
+                drawn
+                    .label(label.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+            }
+        }
     }
     chart
         .configure_series_labels()
@@ -89,4 +157,34 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
         .map_err(|e| err(&e))?;
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn units_follow_the_column_names() {
+        for (column, unit) in [
+            ("t", "s"),
+            ("h1_yaw", "rad"),
+            ("theta_B_roll", "rad"),
+            ("h1_delta_x", "m"),
+            ("h1_delta_rate_z", "m/s"),
+            ("h1_wrel_y", "rad/s"),
+            ("w_B_z", "rad/s"),
+            ("p1_v_x", "m/s"),
+            ("p1_w_z", "rad/s"),
+            ("p1_R_y", "m"),
+            ("R_B_x", "m"),
+            ("BR_B_z", "m"),
+            ("Rc_x", "m"),
+            ("P_y", "kg·m/s"),
+            ("H_z", "kg·m²/s"),
+            ("E", "J"),
+            ("whatever", ""),
+        ] {
+            assert_eq!(unit_of(column), unit, "{column}");
+        }
+    }
 }

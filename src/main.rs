@@ -194,6 +194,9 @@ fn run(
     quiet: bool,
 ) -> Result<(), String> {
     let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
+    for w in &scenario.warnings {
+        eprintln!("warning: {w}");
+    }
     let target = csv.or_else(|| scenario.csv.clone()).unwrap_or_else(|| {
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}.csv"))

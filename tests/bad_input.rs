@@ -352,3 +352,129 @@ fn bad_directional_laws() {
         &["rz", "directional"],
     );
 }
+
+/// The reader's messages in the scenario's words: the key of a duplicate; "a number", "a
+/// list of 3 numbers", "a table like { child_com = … }", "key" rather than Rust types and
+/// serde's "field".
+#[test]
+fn reader_messages_speak_the_files_language() {
+    // Inside a [[body]] the reader locates the body (its header), which the message names.
+    expect_error(
+        |g| g.replacen("mass = 10.0\n", "mass = 10.0\nmass = 11.0\n", 1),
+        None,
+        &["p1", "duplicate key 'mass'"],
+    );
+    expect_error(
+        |g| g.replace("duration = 1.0", "duration = 1.0\nduration = 2.0"),
+        Some("duration = 2.0"),
+        &["duplicate key 'duration'"],
+    );
+    expect_error(
+        |g| g.replacen("mass = 10.0", "mass = \"ten\"", 1),
+        Some("\"ten\""),
+        &["got the text \"ten\"", "expected a number"],
+    );
+    expect_error(
+        |g| g.replacen("a = { child_com = [1.0, 0.0, 0.0] }", "a = 5", 1),
+        Some("a = 5"),
+        &["got the whole number", "child_com = [x, y, z]"],
+    );
+    expect_error(
+        |g| g.replacen("child_com = [1.0, 0.0, 0.0]", "child_com = [1.0, 0.0]", 1),
+        Some("child_com = [1.0, 0.0]"),
+        &["list of length 2", "list of 3 numbers"],
+    );
+    expect_error(
+        |g| g.replacen("mass = 10.0", "masss = 10.0", 1),
+        Some("masss"),
+        &["unknown key 'masss'", "valid keys"],
+    );
+    expect_error(
+        |g| g.replace("atol = 1e-9", "atol = 1e-9\nmax_steps = 99999999999999999999"),
+        Some("max_steps"),
+        &["too large"],
+    );
+    for edit in [
+        |g: &str| g.replacen("mass = 10.0", "mass = \"ten\"", 1),
+        |g: &str| g.replacen("a = { child_com = [1.0, 0.0, 0.0] }", "a = 5", 1),
+        |g: &str| g.replace("atol = 1e-9", "atol = 1e-9\nmax_steps = 99999999999999999999"),
+        |g: &str| g.replacen("mass = 10.0", "masss = 10.0", 1),
+    ] {
+        let e = Scenario::from_toml(&edit(GOOD), "bad.toml").unwrap_err();
+        for jargon in ["f64", "i64", "i128", "struct", "Raw", "field", "`"] {
+            assert!(!e.message.contains(jargon), "'{jargon}' in: {e}");
+        }
+    }
+}
+
+/// One policy for every law: stiffness and damping that would create energy are refused
+/// (paper-linear accepted a negative k_f and c_theta, and ran until its steps collapsed).
+#[test]
+fn negative_springs_and_dampers_are_refused_by_every_law() {
+    for law in ["paper-linear", "euler-potential", "rotation-vector"] {
+        for (key, value) in [("k_f", "-100.0"), ("k_theta", "[10.0, -1.0, 10.0]"), ("c_f", "-1.0"), ("c_theta", "-0.5")]
+        {
+            let edit = |g: &str| {
+                let line =
+                    format!("law = {{ type = \"{law}\", k_f = 100.0, k_theta = 10.0, c_f = 1.0, c_theta = 1.0 }}");
+                let line = line.replace(
+                    &format!(
+                        "{key} = {}",
+                        if key.starts_with('k') { if key == "k_f" { "100.0" } else { "10.0" } } else { "1.0" }
+                    ),
+                    &format!("{key} = {value}"),
+                );
+                g.replacen("law = { type = \"paper-linear\", k_f = 100.0, k_theta = 10.0 }", &line, 1)
+            };
+            expect_error(edit, Some(&format!("{key} = {value}")), &["h1", key, "positive semidefinite"]);
+        }
+    }
+    let directional = |k: &str, damping: &str| {
+        format!(
+            "law = {{ type = \"directional\", angles = \"euler\", x = {{ k = 100.0 }}, y = {{ k = 100.0 }}, z = {{ k = 100.0 }}, rx = {{ k = 10.0 }}, ry = {{ k = 10.0 }}, rz = {{ k = {k}, damping = {damping} }} }}"
+        )
+    };
+    let base = "law = { type = \"paper-linear\", k_f = 100.0, k_theta = 10.0 }";
+    expect_error(
+        |g| g.replacen(base, &directional("-1.0", "0.0"), 1),
+        Some("k = -1.0"),
+        &["h1", "rz", "k must be ≥ 0"],
+    );
+    expect_error(
+        |g| g.replacen(base, &directional("1.0", "-0.1"), 1),
+        Some("damping = -0.1"),
+        &["h1", "rz", "damping must be ≥ 0"],
+    );
+    // A table may fall (snap-through is physical).
+    let falling = "law = { type = \"directional\", angles = \"euler\", x = { k = 100.0 }, y = { k = 100.0 }, z = { k = 100.0 }, rx = { k = 10.0 }, ry = { k = 10.0 }, rz = { table = { points = [[-1.0, 1.0], [0.0, 0.0], [1.0, -1.0], [2.0, 3.0]], interpolation = \"linear\", outside = \"extend\" } } }";
+    Scenario::from_toml(&GOOD.replacen(base, falling, 1), "ok.toml").unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// Locks that repeat each other are refused when the scenario loads, naming the hinge that
+/// closes the loop, its line, and the locked hinges it shares bodies with (it named none, and
+/// only when the run started).
+#[test]
+fn redundant_locks_name_the_hinge_that_closes_the_loop() {
+    let all = "law = { type = \"directional\", angles = \"euler\", x = \"locked\", y = \"locked\", z = \"locked\", rx = \"locked\", ry = \"locked\", rz = { k = 10.0 } }";
+    let text = GOOD
+        .replace("law = { type = \"paper-linear\", k_f = 100.0, k_theta = 10.0 }", all)
+        .replace("law = { type = \"euler-potential\", k_f = 100.0, k_theta = 10.0 }", all)
+        .replace("[initial.hinge.h1]\ndelta = [0.01, 0.0, 0.0]\n", "")
+        + "\n[[hinge]]\nname = \"h3\"\nparent = \"hub\"\nchild = \"p2\"\na0 = \"assembled\"\na = { child_com = [1.0, 0.0, 0.0] }\n"
+        + &format!("{all}\n");
+    let e = Scenario::from_toml(&text, "loop.toml").unwrap_err();
+    assert!(e.message.contains("hinge 'h3'") && e.message.contains("repeat") && e.message.contains("h1"), "{e}");
+    assert_eq!(e.location.map(|l| l.0), Some(line_of(&text, "name = \"h3\"")), "{e}");
+}
+
+/// An angle in radians above a turn is accepted with a located warning (degrees meant?).
+#[test]
+fn radians_above_a_turn_are_warned_of() {
+    let text = GOOD.replace("[initial.hinge.h1]\n", "[initial.hinge.h1]\nyaw = 30.0\n");
+    let s = Scenario::from_toml(&text, "warn.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    let w = &s.warnings[0];
+    assert!(w.starts_with(&format!("warn.toml:{}:", line_of(&text, "yaw = 30.0"))) && w.contains("yaw_deg"), "{w}");
+    let fine = GOOD.replace("[initial.hinge.h1]\n", "[initial.hinge.h1]\nyaw = 3.0\nyaw_deg_unused = 0\n");
+    assert!(Scenario::from_toml(&fine.replace("yaw_deg_unused = 0\n", ""), "ok.toml").unwrap().warnings.is_empty());
+}

@@ -65,18 +65,63 @@ impl Dynamics<'_> {
         self.engaged.borrow()
     }
 
-    /// Checks that the locked directions are independent at `y`.
-    pub fn check_locks(&self, y: &[f64]) -> Result<(), String> {
+    /// Checks that the locked directions are independent at `y`. Fails with the hinge whose
+    /// locks are at fault (index and message): one whose locks are degenerate on their own
+    /// (a lever arm or inertia out of range), or the first, in hinge order, whose locks
+    /// repeat constraints the locks before it already impose (a closed loop of locked
+    /// hinges), with the other locked hinges on its bodies.
+    pub fn check_locks(&self, y: &[f64]) -> Result<(), (usize, String)> {
         let locks = self.locks.borrow();
         if locks.is_empty() {
             return Ok(());
         }
         let motions: Vec<BodyMotion> = (0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
-        if independent(self.model, &locks, &motions, &self.theta_refs.borrow()) {
-            Ok(())
-        } else {
-            Err("the locked hinge directions are redundant (for example a closed loop of locked hinges): unlock one direction of the loop".into())
+        let refs = self.theta_refs.borrow();
+        if independent(self.model, &locks, &motions, &refs) {
+            return Ok(());
         }
+        // Only on failure: find the hinge at fault, group by group (quadratic, but rare).
+        let groups: Vec<&[Lock]> = locks.chunk_by(|a, b| a.hinge == b.hinge).collect();
+        let name = |h: usize| self.model.hinges[h].name.as_str();
+        for g in &groups {
+            if !independent(self.model, g, &motions, &refs) {
+                let h = &self.model.hinges[g[0].hinge];
+                return Err((
+                    g[0].hinge,
+                    format!(
+                        "hinge '{}': its locked directions are degenerate on their own (A0 {:.3e} m from the parent's centre of mass, A {:.3e} m from the child's): lever arms or inertias out of range make the constraint singular",
+                        h.name,
+                        h.r_a0_in_parent.norm(),
+                        h.r_a_in_child.norm()
+                    ),
+                ));
+            }
+        }
+        for k in 1..groups.len() {
+            let upto: Vec<Lock> = groups[..=k].iter().flat_map(|g| g.iter().copied()).collect();
+            if !independent(self.model, &upto, &motions, &refs) {
+                let i = groups[k][0].hinge;
+                let h = &self.model.hinges[i];
+                let others: Vec<&str> = groups[..k]
+                    .iter()
+                    .map(|g| g[0].hinge)
+                    .filter(|&j| {
+                        let o = &self.model.hinges[j];
+                        [o.parent, o.child].iter().any(|b| *b == h.parent || *b == h.child)
+                    })
+                    .map(name)
+                    .collect();
+                return Err((
+                    i,
+                    format!(
+                        "hinge '{}': its locked directions repeat constraints that other locked hinges already impose (a closed loop of locked hinges; locked hinges on its bodies: {}): unlock one direction of the loop",
+                        h.name,
+                        if others.is_empty() { "none directly".to_string() } else { others.join(", ") }
+                    ),
+                ));
+            }
+        }
+        Err((groups[0][0].hinge, "the locked hinge directions are redundant: unlock one direction of the loop".into()))
     }
 
     /// The locked directions, grouped by hinge.

@@ -1,7 +1,7 @@
 //! A scenario ready to run: read, checked and turned into a model, initial conditions and
 //! run settings.
 
-use super::error::{Ctx, ScenarioError, enclosing_item};
+use super::error::{Ctx, ScenarioError, enclosing_item, in_user_words};
 use super::laws::law;
 use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
 use super::values::{angles, angular_rate, check_finite, matrix, positive, vec3};
@@ -33,6 +33,9 @@ pub struct Scenario {
     /// The files read to make it: the scenario file (when read from one) and every table
     /// file. No output may be written over them.
     pub inputs: Vec<PathBuf>,
+    /// Warnings about values that are valid but probably not meant (an angle in radians
+    /// above a turn), located by file, line and column.
+    pub warnings: Vec<String>,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -63,9 +66,9 @@ impl Scenario {
 
     /// As [`Scenario::from_toml`], resolving relative table paths against `base`.
     pub fn from_toml_in(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
-        let ctx = Ctx { file, text, base, inputs: Default::default() };
+        let ctx = Ctx { file, text, base, inputs: Default::default(), warnings: Default::default() };
         let raw: RawScenario = toml::from_str(text).map_err(|e| {
-            let message = e.message().trim().to_string();
+            let message = in_user_words(e.message().trim(), text, e.span());
             let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
                 Some(item) => format!("{item}: {message}"),
                 None => message,
@@ -334,6 +337,9 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         if let Some(cause) = dynamics.non_finite_cause(&y0) {
             return Err(ctx.at(None, format!("the initial state: {cause}")));
         }
+        if let Err((h, message)) = dynamics.check_locks(&y0) {
+            return Err(ctx.span(&raw.hinges[h].name, message));
+        }
     }
 
     let columns = match &run.columns {
@@ -350,6 +356,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         csv: run.csv.as_ref().map(PathBuf::from),
         columns,
         inputs: ctx.inputs.take(),
+        warnings: ctx.warnings.take(),
     })
 }
 

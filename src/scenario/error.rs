@@ -34,9 +34,17 @@ pub(super) struct Ctx<'a> {
     pub(super) base: &'a Path,
     /// Files read while building (tables), in order.
     pub(super) inputs: std::cell::RefCell<Vec<std::path::PathBuf>>,
+    /// Warnings, located ("file:line:col: message").
+    pub(super) warnings: std::cell::RefCell<Vec<String>>,
 }
 
 impl Ctx<'_> {
+    /// Records a warning at `span`.
+    pub(super) fn warn(&self, span: Range<usize>, message: String) {
+        let (line, col) = line_col(self.text, span.start);
+        self.warnings.borrow_mut().push(format!("{}:{line}:{col}: {message}", self.file));
+    }
+
     pub(super) fn at(&self, span: Option<Range<usize>>, message: impl Into<String>) -> ScenarioError {
         ScenarioError {
             file: self.file.to_string(),
@@ -84,4 +92,75 @@ pub(super) fn enclosing_item(text: &str, offset: usize) -> Option<String> {
         Some(n) => format!("{kind} '{n}'"),
         None => kind.to_string(),
     })
+}
+
+/// A message of the TOML reader in the scenario's words: the key of a duplicate, "a number"
+/// for `f64`, "a table { child_com = … }" for an internal type, "key" for "field". `text` and
+/// `span` locate the offending item (a duplicate's key is read from there).
+pub(super) fn in_user_words(message: &str, text: &str, span: Option<Range<usize>>) -> String {
+    if message.starts_with("duplicate key") {
+        let key = span
+            .and_then(|s| text.get(s.start..))
+            .map(|rest| rest.chars().take_while(|c| !matches!(c, '=' | '\n' | ']')).collect::<String>())
+            .map(|k| k.trim().trim_matches(|c| c == '[' || c == '"').to_string())
+            .filter(|k| !k.is_empty());
+        return match key {
+            Some(k) => format!("duplicate key '{k}': give each key once"),
+            None => "duplicate key: give each key once".into(),
+        };
+    }
+    let mut out = message.to_string();
+    // Found values, as serde names them.
+    for (from, to) in [
+        ("invalid type: string ", "got the text "),
+        ("invalid type: integer ", "got the whole number "),
+        ("invalid type: floating point ", "got the number "),
+        ("invalid type: boolean ", "got "),
+        ("invalid type: sequence", "got a list"),
+        ("invalid type: map", "got a table"),
+        ("invalid length ", "got a list of length "),
+        (" as i128", " (too large)"),
+    ] {
+        out = out.replace(from, to);
+    }
+    // Expected types, in the file's terms.
+    for (from, to) in [
+        (
+            "expected struct RawChildFrame",
+            "expected a table like { child_com = [x, y, z], yaw_deg = 0.0 } (m, A frame)",
+        ),
+        ("expected struct RawFrame", "expected a table like { position = [x, y, z], yaw_deg = 0.0 } (m, parent frame)"),
+        ("expected struct RawLaw", "expected a table like { type = \"euler-potential\", k_f = …, k_theta = … }"),
+        (
+            "expected struct RawTable2",
+            "expected a table like { file = \"….csv\", other = \"rz\", interpolation = \"linear\", outside = \"error\" }",
+        ),
+        (
+            "expected struct RawTable",
+            "expected a table like { points = [[u, f], …], interpolation = \"linear\", outside = \"error\" }",
+        ),
+        (
+            "expected struct RawTapeSpring",
+            "expected a table like { increasing = { … }, decreasing = { … }, transition_stiffness = … }",
+        ),
+        ("expected struct RawStop", "expected a table like { at_deg = 0.0, free = \"above\", stiffness = … }"),
+        ("expected an array of length 3", "expected a list of 3 numbers [x, y, z]"),
+        ("expected f64", "expected a number"),
+        ("expected i64", "expected a whole number"),
+        ("expected u64", "expected a whole number"),
+        ("expected usize", "expected a whole number"),
+        ("expected a boolean", "expected true or false"),
+        ("expected a sequence", "expected a list [ … ]"),
+        ("unknown field", "unknown key"),
+        ("missing field", "missing key"),
+        ("expected one of", "valid keys:"),
+    ] {
+        out = out.replace(from, to);
+    }
+    // Any other internal type name.
+    while let Some(i) = out.find("struct Raw") {
+        let end = out[i..].find(|c: char| !(c.is_alphanumeric() || c == ' ')).map_or(out.len(), |e| i + e);
+        out.replace_range(i..end, "a table");
+    }
+    out.replace('`', "'")
 }

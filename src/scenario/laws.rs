@@ -50,6 +50,28 @@ pub(super) fn law(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box
         c_f: mat(&l.c_f, "c_f", "N·s/m", false)?,
         c_theta: mat(&l.c_theta, "c_theta", "N·m·s/rad", false)?,
     };
+    // One policy for every law: springs and dampers must not create energy. A stiffness or
+    // damping matrix's symmetric part must be positive semidefinite (a directional law's k and
+    // damping ≥ 0); a negative stiffness (snap-through, buckling) is a table's to describe.
+    for (m, key, what, unit) in [
+        (&gains.k_f, &l.k_f, "k_f", "N/m"),
+        (&gains.k_theta, &l.k_theta, "k_theta", "N·m/rad"),
+        (&gains.c_f, &l.c_f, "c_f", "N·s/m"),
+        (&gains.c_theta, &l.c_theta, "c_theta", "N·m·s/rad"),
+    ] {
+        let sym = (m + m.transpose()) * 0.5;
+        let lowest = sym.symmetric_eigenvalues().min();
+        if lowest < -1e-12 * m.abs().max()
+            && let Some(key) = key
+        {
+            return Err(ctx.span(
+                key,
+                format!(
+                    "hinge '{hinge}': law.{what} must be positive semidefinite (its symmetric part's lowest eigenvalue is {lowest:e} {unit}): a negative spring or damper creates energy; describe a negative stiffness (snap-through) with a directional table"
+                ),
+            ));
+        }
+    }
     let symmetric = |what: &str| -> Result<(), ScenarioError> {
         for (m, key) in [(&gains.k_f, &l.k_f), (&gains.k_theta, &l.k_theta)] {
             if (m - m.transpose()).abs().max() > 1e-12 * m.abs().max() {
@@ -173,6 +195,11 @@ fn direction(
         return Err(here(format!("damping must be ≥ 0 {rate_unit}, got {damping}")));
     }
     let response = if let Some(k) = r.k {
+        if k < 0.0 {
+            return Err(here(format!(
+                "k must be ≥ 0 {unit}, got {k}: a negative spring creates energy; describe a negative stiffness (snap-through) with a table"
+            )));
+        }
         Response::Linear { k }
     } else if let Some(t) = &r.table {
         Response::Table(table(ctx, hinge, name, rotational, t)?)

@@ -99,6 +99,23 @@ pub(super) fn matrix(v: &toml::Value) -> Option<Mat3> {
 }
 
 /// Rejects `nan` and `inf` anywhere in the file, naming the key.
+/// Warns of an angle key in radians (no `_deg`) whose value exceeds a turn: most likely
+/// degrees given to a radian key (`yaw = 30` for `yaw_deg = 30`).
+fn warn_large_radians(ctx: &Ctx<'_>, path: &str, x: f64, span: std::ops::Range<usize>) {
+    let key = path.rsplit('.').next().unwrap_or(path);
+    let rotational_direction = [".rx.", ".ry.", ".rz."].iter().any(|d| path.contains(d));
+    let angle = matches!(key, "yaw" | "pitch" | "roll") || (rotational_direction && matches!(key, "rest" | "at"));
+    if angle && x.abs() > 2.0 * std::f64::consts::PI {
+        ctx.warn(
+            span,
+            format!(
+                "'{path}' = {x} rad is more than a turn ({:.1}°): if degrees were meant, write '{key}_deg = {x}'",
+                x.to_degrees()
+            ),
+        );
+    }
+}
+
 pub(super) fn check_finite(ctx: &Ctx<'_>) -> Result<(), ScenarioError> {
     use toml::de::{DeTable, DeValue};
     fn walk(ctx: &Ctx<'_>, path: &str, v: &Spanned<DeValue<'_>>) -> Result<(), ScenarioError> {
@@ -109,6 +126,12 @@ pub(super) fn check_finite(ctx: &Ctx<'_>) -> Result<(), ScenarioError> {
                     return Err(
                         ctx.at(Some(v.span()), format!("'{path}' is {}; every number must be finite", f.as_str()))
                     );
+                }
+                warn_large_radians(ctx, path, x, v.span());
+            }
+            DeValue::Integer(i) => {
+                if let Ok(x) = i.as_str().replace('_', "").parse::<f64>() {
+                    warn_large_radians(ctx, path, x, v.span());
                 }
             }
             DeValue::Array(a) => {

@@ -386,7 +386,7 @@ pub fn simulate(
     if let Some(cause) = dynamics.non_finite_cause(&y0) {
         return Err(SimError::Physics(format!("the initial state: {cause}")));
     }
-    dynamics.check_locks(&y0).map_err(SimError::Physics)?;
+    dynamics.check_locks(&y0).map_err(|(_, m)| SimError::Physics(m))?;
     // Initial rates along locked directions are removed (positions hold by construction).
     dynamics.project(&mut y0, true);
     // Locks are solved for only once they carry load (see `Dynamics::disengage_locks`).

@@ -204,7 +204,22 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+const USAGE: &str = "cargo bench --bench locks [-- OPTIONS]
+
+Locked directions against the same directions free and against stiff springs (z-fold and
+1-DOF examples, DOP853 and SDIRK4), median of alternating runs, with the machine load.
+
+  --quick                        short budgets (the default under `cargo test --benches`)
+  --sweep                        locks against springs from 2e5 to 1e9 N/m
+  --profile CASE free|locked     only case CASE's (0-6) right-hand-side loop, for a profiler
+  --profile-run CASE free|locked|stiff   case CASE's whole run, three times
+  -h, --help                     this text";
+
 fn main() {
+    if std::env::args().any(|a| a == "--help" || a == "-h") {
+        println!("{USAGE}");
+        return;
+    }
     let quick = std::env::args().any(|a| a == "--quick") || !std::env::args().any(|a| a == "--bench");
     let (budget, reps) = if quick { (0.05, 1) } else { (0.5, 7) };
     println!("foldsim locks bench (load average {})", load());

@@ -31,6 +31,12 @@ fn per_eval(mut f: impl FnMut()) -> f64 {
 }
 
 fn main() {
+    if std::env::args().any(|a| a == "--help" || a == "-h") {
+        println!(
+            "cargo bench --bench reduced_1dof\n\nAn experiment: what reduced coordinates would cost on the 1-DOF hinged-panels example,\nagainst the locked maximal-coordinate right-hand side. No options."
+        );
+        return;
+    }
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     println!("reduced-coordinate experiment, 1-DOF hinged panels (load {})", load.trim());
     let s = example(true);

@@ -66,8 +66,25 @@ fn max_angle_error(a: &Angles, b: &Angles) -> f64 {
         .fold(0.0, f64::max)
 }
 
+const USAGE: &str = "cargo bench --bench rhs [-- OPTIONS]
+
+Cost of one right-hand-side evaluation per hinge (z-fold chain and grid, 1 to 4096 panels),
+and wall time per simulated second of the explicit and implicit paths with the accuracy each
+reached. Prints the machine load before and after. About 10 minutes.
+
+  --quick            short budgets (the default under `cargo test --benches`)
+  --max N            largest panel count (default 4096)
+  --rhs              only the right-hand-side section
+  --wall             only the wall-time section
+  --profile SHAPE N  only SHAPE's (zfold or grid) right-hand-side loop with N panels, for 5 s
+  -h, --help         this text";
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{USAGE}");
+        return;
+    }
     let quick = args.iter().any(|a| a == "--quick") || !args.iter().any(|a| a == "--bench");
     let max_n: usize = args
         .iter()

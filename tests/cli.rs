@@ -115,3 +115,19 @@ fn csv_to_a_pipe_streams_into_it() {
     assert!(lines.next().is_some_and(|h| h.starts_with("t,")), "header first");
     assert!(lines.count() > 10, "rows streamed to the pipe");
 }
+
+/// `bench/peers/mujoco_zfold.py --help` prints its usage without creating its virtual
+/// environment (it installed 197 MB first). Skipped where python3 is missing.
+#[test]
+fn peer_bench_help_installs_nothing() {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/bench/peers/mujoco_zfold.py");
+    let venv = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/bench/peers/.venv"));
+    let existed = venv.exists();
+    let Ok(out) = Command::new("python3").arg(script).arg("--help").output() else {
+        eprintln!("python3 not found: skipped");
+        return;
+    };
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("--panels"));
+    assert_eq!(venv.exists(), existed, "--help created the virtual environment");
+}

@@ -141,7 +141,6 @@ def max_error(ref, other):
 
 
 def main():
-    ensure_venv()
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--panels", type=int, default=64)
     ap.add_argument("--duration", type=float, default=10.0)
@@ -153,7 +152,9 @@ def main():
     ap.add_argument("--fold-deg", type=float, default=30.0)
     ap.add_argument("--mujoco-steps", default="4e-3,2e-3,1e-3,5e-4,2.5e-4,1.25e-4,6.25e-5",
                     help="RK4 steps to try, largest first (each must divide --sample)")
+    # Parse first: --help and bad options answer without installing anything.
     args = ap.parse_args()
+    ensure_venv()
     import tempfile
     tmp = tempfile.mkdtemp(prefix="foldsim-peers-")
     exe = foldsim_bin()

@@ -106,6 +106,13 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
     stats.rhs_evaluations += 1;
     let mut t = t0;
     let mut forced_end: Option<f64> = None;
+    // Compensated (Kahan) summation of the state: the part of each step's increment that
+    // rounding `y + Δ` loses is carried into the next step. A fixed small step takes many
+    // steps, and without it their round-off, ~ε |y| each, adds up (Hairer, Lubich & Wanner,
+    // *Geometric Numerical Integration*, §VIII.5); the compensation of the step before, for
+    // a step that is retaken.
+    let mut compensation = vec![0.0; n];
+    let mut compensation_before = vec![0.0; n];
     while t < tf {
         // Steps end on the grid t0 + i·step (and at tf), also after a restart.
         let mut i = ((t - t0) / step).floor() + 1.0;
@@ -124,7 +131,13 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
             stage_point(&mut w.y_stage, y, h, RK4.a[s], done);
             system.rhs(t + RK4.c[s] * h, &w.y_stage, &mut rest[0]);
         }
-        stage_point(&mut w.y_new, y, h, RK4.b, &w.k);
+        combine(&mut w.err5, h, RK4.b, &w.k);
+        compensation_before.copy_from_slice(&compensation);
+        for (((y_new, &yi), &increment), c) in w.y_new.iter_mut().zip(y.iter()).zip(&w.err5).zip(&mut compensation) {
+            let d = increment + *c;
+            *y_new = yi + d;
+            *c = d - (*y_new - yi);
+        }
         let (done, rest) = w.k.split_at_mut(4);
         system.rhs(t_next, &w.y_new, &mut rest[0]);
         stats.rhs_evaluations += 4;
@@ -141,6 +154,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
             Control::Restart { t: tr, y: yr } => {
                 t = tr;
                 *y = yr;
+                compensation.iter_mut().for_each(|c| *c = 0.0);
                 system.rhs(t, y, &mut w.k[0]);
                 stats.rhs_evaluations += 1;
             }
@@ -148,6 +162,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
                 // Take the step again from its start, to end at tt.
                 std::mem::swap(y, &mut w.y_new);
                 w.k.swap(0, 4);
+                compensation.copy_from_slice(&compensation_before);
                 stats.accepted -= 1;
                 stats.rejected += 1;
                 forced_end = Some(tt);

@@ -8,7 +8,7 @@
 //! - `examples/hinged-panels-1dof.toml`, 300 s: five directions locked vs free (free, the
 //!   panels drift apart: a different motion, reported for completeness; locked, x and y
 //!   carry the load and z, rx, ry none).
-//! - the z-fold example with its five off-axis directions at the stiffness DESIGN.md calls
+//! - the z-fold example with its five off-axis directions at the stiffness
 //!   normal for real hinges (1e7 N/m, 1e5 N·m/rad), rtol = atol = 1e-8, with DOP853 and
 //!   with SDIRK4 (free, the panels drift apart).
 //! - the z-fold example with x and y locked in every variant (loaded locks), and z, rx, ry
@@ -145,7 +145,7 @@ fn run(s: &Scenario) -> (f64, u64, (usize, usize)) {
 }
 
 /// Locked against the hinge's own law: the z-fold example with `directions` locked, or held
-/// by springs from the example's own (2e5 N/m, 2e3 N·m/rad) up through DESIGN.md's normal
+/// by springs from the example's own (2e5 N/m, 2e3 N·m/rad) up through the normal
 /// range for real hinges (1e6–1e9 N/m; rotational stiffness 1/100 of it in N·m/rad), damped
 /// in proportion to √k from the example's damping, under DOP853 at the example's tolerance
 /// and SDIRK4 at 1e-8. Prints run wall time locked / spring (median of `reps` alternating

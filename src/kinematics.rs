@@ -1,6 +1,6 @@
-//! Kinematics: a hinge's relative state from the motions of its two bodies (MODEL.md §2),
+//! Kinematics: a hinge's relative state from the motions of its two bodies (docs/model.md §2),
 //! and the reverse, placing bodies from the hub along the spanning tree from initial
-//! conditions given in the paper's relative coordinates (MODEL.md §3).
+//! conditions given in the paper's relative coordinates (docs/model.md §3).
 
 use crate::law::HingeState;
 use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, real};
@@ -40,7 +40,7 @@ pub struct HingeTranslation<T: nalgebra::Scalar = f64> {
 }
 
 /// The translational part of hinge `h`'s relative state from the motions of its parent and
-/// child (MODEL.md §2): what [`hinge_kinematics`] computes before the rotation.
+/// child (docs/model.md §2): what [`hinge_kinematics`] computes before the rotation.
 #[inline]
 pub fn hinge_translation<T: Real>(h: &Hinge, parent: &BodyMotion<T>, child: &BodyMotion<T>) -> HingeTranslation<T> {
     let dcm_n_a0 = parent.dcm_n_b * lift::<T>(&h.dcm_parent_a0);
@@ -62,10 +62,10 @@ pub fn hinge_translation<T: Real>(h: &Hinge, parent: &BodyMotion<T>, child: &Bod
     }
 }
 
-/// Relative state of hinge `h` from the motions of its parent and child (MODEL.md §2).
+/// Relative state of hinge `h` from the motions of its parent and child (docs/model.md §2).
 ///
 /// The Euler angles are taken from `[A A0]` and moved by whole turns in yaw and roll to lie
-/// nearest `theta_ref` (MODEL.md §7), so tree and loop hinges alike are continuous.
+/// nearest `theta_ref` (docs/model.md §7), so tree and loop hinges alike are continuous.
 #[inline]
 pub fn hinge_kinematics<T: Real>(
     h: &Hinge,
@@ -120,7 +120,7 @@ pub struct HingeInitial {
     pub theta: Option<Euler321>,
 }
 
-/// Initial conditions of a whole structure (MODEL.md §3, paper Tables 3 and 7).
+/// Initial conditions of a whole structure (docs/model.md §3, paper Tables 3 and 7).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct InitialConditions {
     /// `R_{B/N}`, m, N components.
@@ -138,7 +138,7 @@ pub struct InitialConditions {
     pub body_attitudes: Vec<Option<Euler321>>,
 }
 
-/// Places body `to` from the pose and twist of body `from` across hinge `h` (MODEL.md §3).
+/// Places body `to` from the pose and twist of body `from` across hinge `h` (docs/model.md §3).
 ///
 /// `reversed` is false when `from` is the hinge's parent. The pose follows
 /// [`Hinge::place`]; the twist adds the hinge's relative rates: `ω_c = ω_p + [N A] ω_rel`

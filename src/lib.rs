@@ -2,7 +2,7 @@
 //!
 //! Deployment dynamics of folded spacecraft structures: a rigid hub and rigid panels joined
 //! by flexible hinges that bend, twist and stretch in all six directions (the model of
-//! `MODEL.md`, after Fulton & Schaub, AAS 17-747).
+//! `docs/model.md`, after Fulton & Schaub, AAS 17-747).
 //!
 //! Bodies are integrated in maximal coordinates (pose and twist of each body) and every
 //! hinge, tree or loop, is a force element between two bodies (`docs/architecture.md`).

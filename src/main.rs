@@ -365,7 +365,7 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         println!("    energy E = T + V    {:.3e} J ({:.3e} relative; conserved by these laws)", d.energy, e_rel);
     } else {
         println!(
-            "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, hysteresis, stops, a 2-D table, or the paper-linear law of MODEL.md §4)",
+            "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, hysteresis, stops, a 2-D table, or the paper-linear law of docs/model.md §4)",
             d.energy, e_rel, d.energy_final_change
         );
         println!(

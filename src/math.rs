@@ -1,4 +1,4 @@
-//! Rotation conventions of MODEL.md §1: elementary rotations, 3-2-1 Euler angles, their rate
+//! Rotation conventions of docs/model.md §1: elementary rotations, 3-2-1 Euler angles, their rate
 //! matrix, and quaternion helpers.
 //!
 //! A direction cosine matrix `[XY]` (named `dcm_x_y` in code) maps Y-frame components to
@@ -55,19 +55,19 @@ pub fn lift<T: Real>(m: &Mat3) -> Matrix3<T> {
     m.map(real)
 }
 
-/// Elementary rotation about axis 1 by `a` rad (MODEL.md §1).
+/// Elementary rotation about axis 1 by `a` rad (docs/model.md §1).
 pub fn m1(a: f64) -> Mat3 {
     let (s, c) = a.sin_cos();
     Mat3::new(1.0, 0.0, 0.0, 0.0, c, s, 0.0, -s, c)
 }
 
-/// Elementary rotation about axis 2 by `a` rad (MODEL.md §1).
+/// Elementary rotation about axis 2 by `a` rad (docs/model.md §1).
 pub fn m2(a: f64) -> Mat3 {
     let (s, c) = a.sin_cos();
     Mat3::new(c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c)
 }
 
-/// Elementary rotation about axis 3 by `a` rad (MODEL.md §1).
+/// Elementary rotation about axis 3 by `a` rad (docs/model.md §1).
 pub fn m3(a: f64) -> Mat3 {
     let (s, c) = a.sin_cos();
     Mat3::new(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0)
@@ -75,7 +75,7 @@ pub fn m3(a: f64) -> Mat3 {
 
 /// 3-2-1 Euler angles `(yaw θ1, pitch θ2, roll θ3)` in rad.
 ///
-/// `[XY] = M1(θ3) · M2(θ2) · M3(θ1)` (MODEL.md §1).
+/// `[XY] = M1(θ3) · M2(θ2) · M3(θ1)` (docs/model.md §1).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Euler321<T = f64> {
     /// θ1, rotation about axis 3, rad.
@@ -88,7 +88,7 @@ pub struct Euler321<T = f64> {
 
 impl<T: Real> Euler321<T> {
     /// Principal 3-2-1 angles of a DCM `[XY]`: yaw and roll in (−π, π], pitch in [−π/2, π/2]
-    /// (MODEL.md §7).
+    /// (docs/model.md §7).
     pub fn from_dcm(dcm: &Matrix3<T>) -> Self {
         let one = T::one();
         let s = dcm[(0, 2)];
@@ -103,7 +103,7 @@ impl<T: Real> Euler321<T> {
     }
 
     /// These angles with yaw and roll moved by whole turns to lie nearest `reference`
-    /// (continuous tracking of MODEL.md §7). Pitch is left as it is.
+    /// (continuous tracking of docs/model.md §7). Pitch is left as it is.
     pub fn unwrapped_near(self, reference: &Euler321) -> Self {
         let turns = |angle: T, reference: f64| real::<T>(2.0 * PI * ((reference - re(angle)) / (2.0 * PI)).round());
         Self {
@@ -114,7 +114,7 @@ impl<T: Real> Euler321<T> {
     }
 
     /// The paper's torque-ordered vector `φ = [θ3, θ2, θ1]` = (roll, pitch, yaw), rad
-    /// (MODEL.md §4, paper eq. 15b).
+    /// (docs/model.md §4, paper eq. 15b).
     pub fn phi(self) -> Vector3<T> {
         Vector3::new(self.roll, self.pitch, self.yaw)
     }
@@ -156,7 +156,7 @@ impl Euler321 {
     }
 
     /// Euler-rate matrix `B(θ)`: `ω = B(θ) θ̇`, ω of X relative to Y in X components
-    /// (MODEL.md §1).
+    /// (docs/model.md §1).
     pub fn rate_matrix(self) -> Mat3 {
         self.trig().rate_matrix()
     }
@@ -234,7 +234,7 @@ impl<T: Real> EulerTrig<T> {
     }
 
     /// Euler-rate matrix `B(θ)`: `ω = B(θ) θ̇`, ω of X relative to Y in X components
-    /// (MODEL.md §1).
+    /// (docs/model.md §1).
     pub fn rate_matrix(&self) -> Matrix3<T> {
         let Self { s2, c2, s3, c3 } = *self;
         let (zero, one) = (T::zero(), T::one());
@@ -255,7 +255,7 @@ impl<T: Real> EulerTrig<T> {
     }
 
     /// Euler-angle rates `θ̇ = B(θ)⁻¹ ω` for ω of X relative to Y in X components, rad/s
-    /// (MODEL.md §1). Singular at pitch ±π/2.
+    /// (docs/model.md §1). Singular at pitch ±π/2.
     pub fn rates_from_omega(&self, omega: &Vector3<T>) -> Vector3<T> {
         let Self { s2, c2, s3, c3 } = *self;
         let yaw_rate = (s3 * omega.y + c3 * omega.z) / c2;

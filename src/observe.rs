@@ -1,4 +1,4 @@
-//! The outputs of MODEL.md §5, computed from a state, and their CSV column names.
+//! The outputs of docs/model.md §5, computed from a state, and their CSV column names.
 
 use crate::kinematics::hinge_kinematics;
 use crate::law::LawMemory;
@@ -6,7 +6,7 @@ use crate::math::{Euler321, Vec3};
 use crate::model::Model;
 use crate::state::BodyMotion;
 
-/// Every quantity of MODEL.md §5 at one instant.
+/// Every quantity of docs/model.md §5 at one instant.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Observation {
     /// Time, s.
@@ -43,7 +43,7 @@ pub struct Observation {
     pub angular_momentum_in_n: Vec3,
     /// Kinetic energy T, J.
     pub kinetic_energy: f64,
-    /// Hinge energy V (MODEL.md §4; not a potential for law 1), J.
+    /// Hinge energy V (docs/model.md §4; not a potential for law 1), J.
     pub hinge_energy: f64,
     /// Per hinge: energy dissipated since the start, J (∫ dissipation power dt).
     pub hinge_dissipated: Vec<f64>,
@@ -77,7 +77,7 @@ impl Observer {
         Self { hub_theta_ref: hub_theta }
     }
 
-    /// Every output of MODEL.md §5 at time `t` for state `y` (bodies, then per-hinge
+    /// Every output of docs/model.md §5 at time `t` for state `y` (bodies, then per-hinge
     /// dissipated energy), with hinge angles continuous near `theta_refs` and the laws'
     /// `memories`. Calls must come in time order for the hub angles to stay continuous.
     pub fn observe(

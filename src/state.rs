@@ -1,4 +1,4 @@
-//! The integrated state: every body's pose and twist in maximal coordinates (DESIGN.md §1).
+//! The integrated state: every body's pose and twist in maximal coordinates (docs/architecture.md).
 //!
 //! Layout per body, [`BODY_STATE_LEN`] numbers from `BODY_STATE_LEN · i`:
 //! `R_i` (m, N components, 3), `q_n_i` (unit quaternion w, x, y, z mapping body to N

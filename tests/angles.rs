@@ -1,4 +1,4 @@
-//! Angle branches (MODEL.md §7): hinge angles are continuous in time for tree and loop
+//! Angle branches (docs/model.md §7): hinge angles are continuous in time for tree and loop
 //! hinges alike, given angles outside the principal range are kept, and the singular pitch
 //! is reported instead of integrated through.
 

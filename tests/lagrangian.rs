@@ -1,7 +1,7 @@
-//! An independent check of the equations of motion: Lagrange's equations (MODEL.md §3,
+//! An independent check of the equations of motion: Lagrange's equations (docs/model.md §3,
 //! paper eq. 1) in the paper's relative coordinates q = [R_B, θ_B, δ_h, θ_h …], formed by
 //! automatic differentiation (num-dual) of the kinetic energy written from positions and
-//! direction cosine matrices alone, with the generalized forces of MODEL.md §4 (eq. 14) for
+//! direction cosine matrices alone, with the generalized forces of docs/model.md §4 (eq. 14) for
 //! tree and loop hinges. The engine integrates bodies in maximal coordinates with hinge
 //! wrench pairs; both must give the same body accelerations at random states.
 //!
@@ -64,7 +64,7 @@ fn cm<T: Num>(m: &Matrix3<f64>) -> M<T> {
 fn cv<T: Num>(v: &nalgebra::Vector3<f64>) -> V<T> {
     [k(v.x), k(v.y), k(v.z)]
 }
-/// [XY] = M1(roll) M2(pitch) M3(yaw), from the elementary rotations of MODEL.md §1.
+/// [XY] = M1(roll) M2(pitch) M3(yaw), from the elementary rotations of docs/model.md §1.
 fn euler<T: Num>(yaw: T, pitch: T, roll: T) -> M<T> {
     let (o, l) = (k::<T>(0.0), k::<T>(1.0));
     let (s1, c1) = (yaw.sin(), yaw.cos());
@@ -98,7 +98,7 @@ struct Kin<T> {
     omega_rel: Vec<V<T>>,
 }
 
-/// MODEL.md §3 forward kinematics over the tree; velocities by a dual number along q̇.
+/// docs/model.md §3 forward kinematics over the tree; velocities by a dual number along q̇.
 fn kin<T: Num>(model: &Model, q: &[T], qd: &[T]) -> Kin<T> {
     type D<T> = Dual<T>;
     let z: Vec<D<T>> = q.iter().zip(qd).map(|(a, b)| Dual::new(*a, *b)).collect();
@@ -156,7 +156,7 @@ fn kin<T: Num>(model: &Model, q: &[T], qd: &[T]) -> Kin<T> {
     out
 }
 
-/// Kinetic energy (MODEL.md §3).
+/// Kinetic energy (docs/model.md §3).
 fn kinetic<T: Num>(model: &Model, kq: &Kin<T>) -> T {
     let mut t = k::<T>(0.0);
     for (i, b) in model.bodies.iter().enumerate() {
@@ -167,7 +167,7 @@ fn kinetic<T: Num>(model: &Model, kq: &Kin<T>) -> T {
     t
 }
 
-/// The laws as the test writes them (MODEL.md §4), one set of gains for every hinge.
+/// The laws as the test writes them (docs/model.md §4), one set of gains for every hinge.
 #[derive(Clone, Copy)]
 struct Gains {
     k_f: Matrix3<f64>,

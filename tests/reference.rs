@@ -1,5 +1,5 @@
-//! The four canonical cases of MODEL.md §6 against the independent reference trajectories
-//! (tests/data/reference, copied from shared/reference; produced by a Lagrangian
+//! The four canonical cases of docs/model.md §6 against the independent reference trajectories
+//! (tests/data/reference, made by an independent implementation; produced by a Lagrangian
 //! implementation at rtol = atol = 1e-12 whose own error is below 4e-9).
 //!
 //! Tolerances are the ones the core issue sets: 1e-8 absolute for paper-1panel and 1e-7 for

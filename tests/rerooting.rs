@@ -1,4 +1,4 @@
-//! Which hinges form the spanning tree must not change the physics (MODEL.md §2): the same
+//! Which hinges form the spanning tree must not change the physics (docs/model.md §2): the same
 //! structure and the same initial body states, with a different tree, must give the same
 //! body trajectories. Tolerance 1e-9 (the core issue's): both runs integrate the same ODE
 //! from initial states equal to round-off, so they differ only by integration error,

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """foldsim against MuJoCo on a z-folded chain of panels with six-direction spring hinges.
 
-The same structure in both (foldsim's `generate zfold`: MODEL.md law 2, the hinge as slides
+The same structure in both (foldsim's `generate zfold`: docs/model.md law 2, the hinge as slides
 x, y, z then hinges z, y, x with joint stiffness in MuJoCo, which is exactly law 2 in joint
 coordinates). A tight foldsim run (DOP853, rtol = atol = 1e-12) is the reference. For each
 simulator the script finds the cheapest setting whose largest hinge-angle error over the run

@@ -1,7 +1,7 @@
-//! Equations of motion: Newton–Euler for every body, hinges as wrench pairs (DESIGN.md §1).
+//! Equations of motion: Newton–Euler for every body, hinges as wrench pairs (docs/architecture.md).
 //!
 //! One right-hand-side evaluation walks the bodies once and the hinges once: O(bodies +
-//! hinges). The hinge wrench of MODEL.md §4 (paper eq. 14) is applied exactly: with
+//! hinges). The hinge wrench of docs/model.md §4 (paper eq. 14) is applied exactly: with
 //! `F_N = [N A0] F` and `τ_N = [N A] τ`, the child receives `−F_N` at A's origin and `−τ_N`,
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
@@ -77,7 +77,7 @@ pub struct LawEvent {
     pub hinge_dissipated: f64,
 }
 
-/// How near pitch ±90° a hinge may come before the run stops, rad (MODEL.md §7).
+/// How near pitch ±90° a hinge may come before the run stops, rad (docs/model.md §7).
 pub const GIMBAL_LOCK_MARGIN: f64 = 1e-3;
 impl<'m> Dynamics<'m> {
     /// Equations of motion of `model`; `theta_refs` are the hinges' initial continuous angles.
@@ -186,7 +186,7 @@ impl<'m> Dynamics<'m> {
     /// Records an accepted state: moves every hinge's angle reference to its continuous
     /// angles there and checks the laws' domains. Fails, naming the hinge, if an Euler-angle
     /// law comes within [`GIMBAL_LOCK_MARGIN`] of pitch ±90°, where 3-2-1 laws are singular
-    /// (MODEL.md §7), or if a law's own check fails (a table's range, say).
+    /// (docs/model.md §7), or if a law's own check fails (a table's range, say).
     pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
         let mut refs = self.theta_refs.borrow_mut();
         let mut memories = self.memories.borrow_mut();
@@ -195,7 +195,7 @@ impl<'m> Dynamics<'m> {
             if h.law.uses_euler_angles() {
                 if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
                     return Err(format!(
-                        "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (MODEL.md §7), so the hinge law is not defined there",
+                        "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (docs/model.md §7), so the hinge law is not defined there",
                         h.name,
                         k.state.theta.pitch.to_degrees()
                     ));
@@ -205,7 +205,7 @@ impl<'m> Dynamics<'m> {
                 let jump = (k.state.theta.yaw - refs[i].yaw).abs().max((k.state.theta.roll - refs[i].roll).abs());
                 if jump > std::f64::consts::FRAC_PI_2 {
                     return Err(format!(
-                        "hinge '{}' passed near pitch ±90° before t = {t:.6} s (yaw or roll jumped by {:.1}° in one step): 3-2-1 Euler angles are singular there (MODEL.md §7)",
+                        "hinge '{}' passed near pitch ±90° before t = {t:.6} s (yaw or roll jumped by {:.1}° in one step): 3-2-1 Euler angles are singular there (docs/model.md §7)",
                         h.name,
                         jump.to_degrees()
                     ));

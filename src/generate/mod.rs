@@ -1,4 +1,4 @@
-//! Structure generators: scenario files for families of structures (DESIGN.md §4: generators
+//! Structure generators: scenario files for families of structures (docs/architecture.md: generators
 //! write scenarios; nothing downstream knows who wrote one).
 //!
 //! - [`zfold()`]: a z-folded chain of N panels off the hub, stowed with alternating folds.

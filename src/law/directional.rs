@@ -1,4 +1,4 @@
-//! A hinge law built direction by direction (MODEL.md §4 law 3 and the hinge-law issue):
+//! A hinge law built direction by direction (docs/model.md §4, law 4 and the hinge-law issue):
 //! each of the six relative coordinates — δx, δy, δz (A0 components) and three rotation
 //! coordinates — has its own response, rest value, damping and optional end stop or latch.
 //!

@@ -1,7 +1,7 @@
-//! Hinge laws (MODEL.md §4): the map from a hinge's relative state to its force and torque.
+//! Hinge laws (docs/model.md §4): the map from a hinge's relative state to its force and torque.
 //!
 //! Every law implements [`HingeLaw`]. The engine applies the returned force and torque as the
-//! wrench pair of DESIGN.md §1, which is the generalized force of MODEL.md §4 (paper eq. 14):
+//! wrench pair of docs/architecture.md, which is the generalized force of docs/model.md §4 (paper eq. 14):
 //! a torque `τ` (A components) does virtual work `−τ · δω_rel`, so a law that wants the
 //! generalized force `g` on the Euler angles returns `τ = B(θ)⁻ᵀ g`.
 //!
@@ -20,14 +20,14 @@ use std::fmt::Debug;
 /// to the 13 state numbers of its parent and the 13 of its child (see [`crate::state`]).
 pub type JacobianDual = num_dual::DualSVec64<26>;
 
-/// Relative state of one hinge (MODEL.md §2), in f64 or, for the Jacobian, dual numbers.
+/// Relative state of one hinge (docs/model.md §2), in f64 or, for the Jacobian, dual numbers.
 #[derive(Clone, Copy, Debug)]
 pub struct HingeState<T: nalgebra::Scalar = f64> {
     /// `δ = ᴬ⁰(R_A − R_A0)`: A's origin relative to A0's origin, A0 components, m.
     pub delta_in_a0: Vector3<T>,
     /// Time derivative of the A0 components of δ, m/s.
     pub delta_rate_in_a0: Vector3<T>,
-    /// 3-2-1 angles of `[A A0]`, tracked continuously (MODEL.md §7), rad.
+    /// 3-2-1 angles of `[A A0]`, tracked continuously (docs/model.md §7), rad.
     pub theta: Euler321<T>,
     /// `[A A0]`.
     pub dcm_a_a0: Matrix3<T>,
@@ -57,7 +57,7 @@ impl HingeState {
     }
 }
 
-/// Force and torque a hinge law returns (MODEL.md §4).
+/// Force and torque a hinge law returns (docs/model.md §4).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HingeWrench<T: nalgebra::Scalar = f64> {
     /// Restoring force `F`, A0 components, N. The child receives `−F` at A's origin, the
@@ -148,7 +148,7 @@ pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
 
     /// Energy stored in the hinge, J. For a law with a potential this is that potential;
     /// for the paper-linear law it is the same quadratic form, reported for comparison
-    /// although the law's torque is not its gradient (MODEL.md §4).
+    /// although the law's torque is not its gradient (docs/model.md §4).
     fn stored_energy(&self, state: &HingeState, memory: &LawMemory) -> f64;
 
     /// Power the hinge takes from the bodies beyond the rate of its stored energy, W:
@@ -243,7 +243,7 @@ macro_rules! generic_wrench {
     };
 }
 
-/// Stiffness and damping matrices shared by laws 1 and 2 of MODEL.md §4.
+/// Stiffness and damping matrices shared by laws 1 and 2 of docs/model.md §4.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinearGains {
     /// Translational stiffness `K_F`, N/m, acting on δ in A0 components.
@@ -305,7 +305,7 @@ impl LinearGains {
     }
 }
 
-/// Law 1, "paper linear" (MODEL.md §4, paper eq. 15):
+/// Law 1, "paper linear" (docs/model.md §4, paper eq. 15):
 /// `F = K_F δ + C_F δ̇`, `τ = K_θ φ + C_θ ω_rel`, `φ = [θ3, θ2, θ1]`.
 ///
 /// Conserves momentum but not energy, even undamped: `−B(θ)ᵀ K_θ φ` is not a gradient.
@@ -351,7 +351,7 @@ impl HingeLaw for PaperLinear {
     }
 }
 
-/// Law 2, "Euler potential" (MODEL.md §4): `V = ½ δᵀ K_F δ + ½ φᵀ K_θ φ` with generalized
+/// Law 2, "Euler potential" (docs/model.md §4): `V = ½ δᵀ K_F δ + ½ φᵀ K_θ φ` with generalized
 /// force `−∂V/∂q`, plus the damping of law 1. `K_F` and `K_θ` must be symmetric.
 ///
 /// The torque is `τ = B(θ)⁻ᵀ (∂φ/∂θ)ᵀ K_θ φ + C_θ ω_rel`, singular at pitch ±90°.

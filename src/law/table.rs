@@ -1,4 +1,4 @@
-//! One-dimensional response tables (MODEL.md §4 law 3): a force or moment against a
+//! One-dimensional response tables (docs/model.md §4 law 3): a force or moment against a
 //! displacement or angle, from test data.
 //!
 //! Interpolation is piecewise linear or a monotone-preserving cubic (PCHIP, Fritsch–Carlson

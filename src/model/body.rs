@@ -1,8 +1,8 @@
-//! A rigid body's mass properties (MODEL.md §2).
+//! A rigid body's mass properties (docs/model.md §2).
 
 use crate::math::Mat3;
 
-/// A rigid body (MODEL.md §2). Body 0 is the hub.
+/// A rigid body (docs/model.md §2). Body 0 is the hub.
 #[derive(Clone, Debug)]
 pub struct Body {
     /// Unique name, used for output columns.

@@ -1,10 +1,10 @@
 //! A hinge between two bodies: where its frames A0 and A sit in them, and its law
-//! (MODEL.md §2).
+//! (docs/model.md §2).
 
 use crate::law::HingeLaw;
 use crate::math::{Mat3, Vec3};
 
-/// Where a hinge's zero-force frame A0 sits in its parent (MODEL.md §2).
+/// Where a hinge's zero-force frame A0 sits in its parent (docs/model.md §2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ParentFrame {
     /// Given explicitly: origin `ᵖr_{A0/p}` (m, parent components) and `[A0 p]`.
@@ -37,7 +37,7 @@ pub struct HingeSpec {
     pub law: Box<dyn HingeLaw>,
 }
 
-/// A hinge with both frames resolved (MODEL.md §2).
+/// A hinge with both frames resolved (docs/model.md §2).
 #[derive(Debug)]
 pub struct Hinge {
     /// Unique name, used for output columns.
@@ -60,12 +60,12 @@ pub struct Hinge {
     pub(crate) dcm_parent_a0: Mat3,
     /// Force and torque response.
     pub law: Box<dyn HingeLaw>,
-    /// Whether A0 was assembled (MODEL.md §2) rather than given.
+    /// Whether A0 was assembled (docs/model.md §2) rather than given.
     pub assembled: bool,
 }
 
 /// The frames of a hinge placed from one of its bodies, all in N: the placed body's pose and
-/// the hinge frames between the two (MODEL.md §2–3). From [`Hinge::place`].
+/// the hinge frames between the two (docs/model.md §2–3). From [`Hinge::place`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placement {
     /// The placed body's CoM, m, N components.
@@ -89,7 +89,7 @@ impl Hinge {
     /// body on the near side, at relative attitude `[A A0]` and displacement δ (A0
     /// components, m). `reversed` is false when the near body is the hinge's parent.
     ///
-    /// Frame chain (MODEL.md §2): `[N A0] = [N p][p A0]`, `[N A] = [N A0][A A0]ᵀ`,
+    /// Frame chain (docs/model.md §2): `[N A0] = [N p][p A0]`, `[N A] = [N A0][A A0]ᵀ`,
     /// `[N c] = [N A][c A]ᵀ`, and `R_c = R_p + [N p] ᵖr_{A0/p} + [N A0] δ − [N c] ᶜr_{A/c}`.
     pub fn place(&self, reversed: bool, from: (Vec3, Mat3), dcm_a_a0: &Mat3, delta_in_a0: &Vec3) -> Placement {
         if !reversed {

@@ -1,5 +1,5 @@
 //! The static description of a structure: bodies, hinges, and the spanning tree used to turn
-//! relative initial conditions into body poses (MODEL.md §2).
+//! relative initial conditions into body poses (docs/model.md §2).
 
 pub mod body;
 pub mod hinge;
@@ -216,7 +216,7 @@ impl Model {
             h.law = law;
         }
         let mut model = Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree };
-        // Assemble A0 frames at zero tree coordinates (MODEL.md §2).
+        // Assemble A0 frames at zero tree coordinates (docs/model.md §2).
         if hinges.iter().any(|h| h.assembled) {
             std::mem::swap(&mut model.hinges, &mut hinges);
             let poses = model.zero_configuration();

@@ -99,7 +99,7 @@ pub(super) fn law(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<RawLaw>) -> Result<Box
         other => Err(ctx.span(
             &l.kind,
             format!(
-                "hinge '{hinge}': unknown law type '{other}'; valid: \"paper-linear\" (MODEL.md §4 law 1), \"euler-potential\" (law 2), \"rotation-vector\", \"directional\""
+                "hinge '{hinge}': unknown law type '{other}'; valid: \"paper-linear\" (docs/model.md §4 law 1), \"euler-potential\" (law 2), \"rotation-vector\", \"directional\""
             ),
         )),
     }

@@ -50,7 +50,7 @@ pub fn read_csv(path: &Path) -> Table {
 }
 
 /// Largest difference per shared column, rows matched by time, angle columns (ending in
-/// _yaw, _pitch, _roll) compared modulo 2π: the rules of shared/tools/compare_reference.py.
+/// _yaw, _pitch, _roll) compared modulo 2π: the rules of tools/compare_reference.py.
 /// Returns (column, max |diff|) for every column of `reference` found in `ours`, and the
 /// number of rows matched.
 pub fn compare(reference: &Table, ours: &Table) -> (Vec<(String, f64)>, usize) {

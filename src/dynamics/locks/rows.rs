@@ -1,6 +1,6 @@
 //! A lock's constraint row: the locked coordinate's rate as a linear form in the two bodies'
 //! twists, `J V`, with its velocity-product term γ (`J V̇ + γ = 0`), derived exactly from the
-//! hinge kinematics (MODEL.md §2, 3-2-1 angle rates for rotations).
+//! hinge kinematics (docs/model.md §2, 3-2-1 angle rates for rotations).
 
 use crate::kinematics::{HingeKinematics, hinge_kinematics};
 use crate::math::{Euler321, EulerTrig, Real, real};

@@ -9,7 +9,7 @@ use crate::dynamics::Dynamics;
 use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist, initial_state};
 use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
 use crate::observe::{Selection, catalogue};
-use crate::simulate::settings::{MAX_DEFAULT_STEP_BUDGET, MIN_STEP_OF_DURATION, default_step_budget};
+use crate::simulate::settings::{MAX_DEFAULT_STEP_BUDGET, MAX_OUTPUT_ROWS, MIN_STEP_OF_DURATION, default_step_budget};
 use crate::simulate::{Integrator, RunSettings};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -88,6 +88,16 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     let run = raw.run.get_ref();
     let duration = positive(ctx, &run.duration, "run.duration", "s")?;
     let output_step = positive(ctx, &run.output_step, "run.output_step", "s")?;
+    if duration / output_step > MAX_OUTPUT_ROWS {
+        return Err(ctx.span(
+            &run.output_step,
+            format!(
+                "'run.output_step' = {output_step:e} s gives {:.1e} output rows over {duration} s; at most {MAX_OUTPUT_ROWS:e}: give at least {:.3e} s",
+                duration / output_step,
+                duration / MAX_OUTPUT_ROWS
+            ),
+        ));
+    }
     let need = |v: &Option<Spanned<f64>>, key: &str, what: &str| -> Result<f64, ScenarioError> {
         match v {
             Some(x) => positive(ctx, x, key, ""),

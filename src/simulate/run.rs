@@ -2,7 +2,7 @@
 //! law events, lock engagement, momentum restoration, and the conservation figures.
 
 use super::report::{Drift, RunReport, SimError};
-use super::settings::{Integrator, MIN_STEP_BUDGET, RunSettings};
+use super::settings::{Integrator, MAX_OUTPUT_ROWS, MIN_STEP_BUDGET, RunSettings};
 use crate::dynamics::newton::GraphNewton;
 use crate::dynamics::{Dynamics, LawEvent};
 use crate::integrate::{Control, Limits, Method, OdeError, Step, integrate, integrate_sdirk4};
@@ -380,6 +380,14 @@ pub fn simulate(
     sink: &mut dyn Sink,
     progress: Option<&mut dyn FnMut(f64) -> ControlFlow<()>>,
 ) -> Result<RunReport, SimError> {
+    if !(settings.duration > 0.0 && settings.output_step > 0.0)
+        || settings.duration / settings.output_step > MAX_OUTPUT_ROWS
+    {
+        return Err(SimError::Physics(format!(
+            "run.duration = {} s and run.output_step = {} s: both must be > 0, with at most {MAX_OUTPUT_ROWS:e} rows",
+            settings.duration, settings.output_step
+        )));
+    }
     let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
     dynamics.initialize_memory(&y0);

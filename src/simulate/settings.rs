@@ -66,6 +66,10 @@ pub struct RunSettings {
     pub max_steps: Option<usize>,
 }
 
+/// The most output rows a run writes (`duration / output_step`): ten million rows of even the
+/// smallest structure are gigabytes, more than anyone reads back.
+pub const MAX_OUTPUT_ROWS: f64 = 1e7;
+
 /// The step floor, as a fraction of the run's duration: a step-size control that wants
 /// smaller steps stops the run (explicit methods need steps of ~3 / the fastest hinge rate;
 /// below 1e-12 of the duration the run would take more than 1e12 steps).

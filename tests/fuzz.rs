@@ -107,7 +107,7 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
             let tokens: Vec<(usize, usize)> = token_spans(line);
             if let Some(&(a, b)) = (!tokens.is_empty()).then(|| rng.pick(&tokens)) {
                 let mut l = line.clone();
-                let value: &str = rng.pick(EXTREMES);
+                let value = *rng.pick::<&str>(EXTREMES);
                 l.replace_range(a..b, value);
                 lines[k] = l;
             }

@@ -37,16 +37,17 @@ fn run_text(dir: &Path, text: &str, args: &[&str]) -> (bool, String, String) {
 fn unbounded_output_is_refused_before_the_run() {
     let dir = tmp("size");
     let base = example("paper-1panel.toml");
-    // 1e12 s: refused at load by the step budget (it could not end in any case).
+    // 1e12 s, 5e-14 s: more than 1e7 rows, refused at load.
     let csv = dir.join("out.csv");
+    for (from, to) in [("duration = 20.0", "duration = 1e12"), ("output_step = 0.05", "output_step = 5e-14")] {
+        assert!(base.contains(from));
+        let (ok, _, err) = run_text(&dir, &base.replace(from, to), &["--csv", csv.to_str().unwrap()]);
+        assert!(!ok && err.contains("output rows") && err.contains("run.output_step"), "{err}");
+        assert!(!csv.exists() && !dir.join("out.csv.partial").exists(), "a file was made");
+    }
+    // 5e6 rows of the default columns: gigabytes, refused by the size estimate.
     let (ok, _, err) =
-        run_text(&dir, &base.replace("duration = 20.0", "duration = 1e12"), &["--csv", csv.to_str().unwrap()]);
-    assert!(!ok && err.contains("steps"), "{err}");
-    assert!(!csv.exists() && !dir.join("out.csv.partial").exists(), "a file was made");
-    // 4e14 rows.
-    assert!(base.contains("output_step = 0.05"));
-    let (ok, _, err) =
-        run_text(&dir, &base.replace("output_step = 0.05", "output_step = 5e-14"), &["--csv", csv.to_str().unwrap()]);
+        run_text(&dir, &base.replace("output_step = 0.05", "output_step = 4e-6"), &["--csv", csv.to_str().unwrap()]);
     assert!(!ok);
     for needle in ["GiB", "run.output_step", "--columns", "--large-output"] {
         assert!(err.contains(needle), "lacks '{needle}': {err}");

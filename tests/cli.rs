@@ -1,17 +1,14 @@
 //! The `foldsim` binary end to end: a run writes the CSV atomically and prints the report; a
 //! bad scenario or a failed run leaves no file that looks complete.
 
+mod common;
+
+use common::foldsim;
 use std::path::PathBuf;
 use std::process::Command;
 
-fn foldsim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_foldsim"))
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("foldsim-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::tmp("cli", name)
 }
 
 #[test]

@@ -5,18 +5,13 @@
 
 mod common;
 
+use common::foldsim;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn foldsim() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_foldsim"))
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("foldsim-outputs-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::tmp("outputs", name)
 }
 
 fn example(name: &str) -> String {

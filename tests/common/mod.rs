@@ -6,6 +6,19 @@ use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};
 use std::path::{Path, PathBuf};
 
+/// The `foldsim` binary of this build.
+pub fn foldsim() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_foldsim"))
+}
+
+/// A directory of its own for one test: `foldsim-<group>-<pid>-<name>` in the system's
+/// temporary directory, created.
+pub fn tmp(group: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("foldsim-{group}-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// Path of a file in the repository.
 pub fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)

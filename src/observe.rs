@@ -272,15 +272,16 @@ impl Selection {
 }
 
 /// Whether `name` matches `pattern` (`*`: any run of characters, `?`: one character).
+/// Column names are ASCII (letters, digits, `_`, `-`), so bytes are characters.
 fn glob(pattern: &str, name: &str) -> bool {
-    let (p, n): (Vec<char>, Vec<char>) = (pattern.chars().collect(), name.chars().collect());
+    let (p, n) = (pattern.as_bytes(), name.as_bytes());
     // Iterative matching with backtracking to the last star.
     let (mut i, mut j, mut star, mut mark) = (0, 0, None, 0);
     while j < n.len() {
-        if i < p.len() && (p[i] == '?' || p[i] == n[j]) {
+        if i < p.len() && (p[i] == b'?' || p[i] == n[j]) {
             i += 1;
             j += 1;
-        } else if i < p.len() && p[i] == '*' {
+        } else if i < p.len() && p[i] == b'*' {
             star = Some(i);
             mark = j;
             i += 1;
@@ -292,5 +293,5 @@ fn glob(pattern: &str, name: &str) -> bool {
             return false;
         }
     }
-    p[i..].iter().all(|&c| c == '*')
+    p[i..].iter().all(|&c| c == b'*')
 }

@@ -87,8 +87,12 @@ def main():
                 for tol in (float(t) for t in tols.split(",")):
                     out = os.path.join(tmp, f"{case}-{integrator}-{tol:g}.csv")
                     wall = run(path, integrator, tol, out, args.reps)
-                    if wall is not None:
+                    if wall is None:
+                        print(f"{case:>12} {integrator} {tol:g}: the run failed", flush=True)
+                    else:
                         results[(integrator, tol)] = (wall, max_error(hinge_angles(out, hinges), ref))
+            for (integrator, tol), (wall, err) in sorted(results.items()):
+                print(f"{case:>12} {integrator:>7} {tol:>8g}: error {err:.1e} rad, {wall:.2f} s", flush=True)
             for (integrator, tol), (wall, err) in sorted(results.items()):
                 if integrator != "sdirk4":
                     continue

@@ -478,3 +478,55 @@ fn radians_above_a_turn_are_warned_of() {
     let fine = GOOD.replace("[initial.hinge.h1]\n", "[initial.hinge.h1]\nyaw = 3.0\nyaw_deg_unused = 0\n");
     assert!(Scenario::from_toml(&fine.replace("yaw_deg_unused = 0\n", ""), "ok.toml").unwrap().warnings.is_empty());
 }
+
+/// A body's shape: mass and inertia follow from a plate or a box and a density exactly; given
+/// values that disagree, a shape off the centre of mass, a density without a shape and a bad
+/// polygon are refused at their keys.
+#[test]
+fn shapes_give_mass_properties_or_located_errors() {
+    let p1 = "name = \"p1\"\nmass = 10.0\ninertia = [1.0, 1.0, 1.0]";
+    assert!(GOOD.contains(p1));
+    // A 2 m × 1 m plate (centred), 5 kg/m², 0.1 m thick: 10 kg; I = m/12 (1 + 0.01, 4 + 0.01, 4 + 1).
+    let plate = "name = \"p1\"\nshape = { polygon = [[-1.0, -0.5, 0.0], [1.0, -0.5, 0.0], [1.0, 0.5, 0.0], [-1.0, 0.5, 0.0]], thickness = 0.1 }\ndensity = 5.0";
+    let s = Scenario::from_toml(&GOOD.replacen(p1, plate, 1), "plate.toml").unwrap_or_else(|e| panic!("{e}"));
+    let b = &s.model.bodies[1];
+    let m = 10.0;
+    let expected = [m / 12.0 * 1.01, m / 12.0 * 4.01, m / 12.0 * 5.0];
+    assert!((b.mass - m).abs() < 1e-12 && b.shape.is_some());
+    for (k, e) in expected.iter().enumerate() {
+        assert!((b.inertia_in_body[(k, k)] - e).abs() < 1e-12, "I{k}{k} = {} vs {e}", b.inertia_in_body[(k, k)]);
+    }
+    // Given mass and inertia that agree are accepted; disagreeing ones refused at the key.
+    let agree = format!("{plate}\nmass = 10.0\ninertia = [{:?}, {:?}, {:?}]", expected[0], expected[1], expected[2]);
+    Scenario::from_toml(&GOOD.replacen(p1, &agree, 1), "agree.toml").unwrap_or_else(|e| panic!("{e}"));
+    expect_error(
+        |g| g.replacen(p1, &format!("{plate}\nmass = 11.0"), 1),
+        Some("mass = 11.0"),
+        &["p1", "disagrees", "density"],
+    );
+    expect_error(
+        |g| g.replacen(p1, &format!("{plate}\ninertia = [1.0, 2.0, 2.5]"), 1),
+        Some("inertia = [1.0, 2.0, 2.5]"),
+        &["p1", "'inertia' disagrees"],
+    );
+    // A box from its mass alone.
+    let boxed = "name = \"p1\"\nshape = { box = [1.0, 2.0, 3.0] }\nmass = 12.0";
+    let s = Scenario::from_toml(&GOOD.replacen(p1, boxed, 1), "box.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert!((s.model.bodies[1].inertia_in_body[(0, 0)] - 13.0).abs() < 1e-12, "m/12 (b² + c²) = 13");
+    // Off the centre of mass, a density without a shape, neither mass nor density, a crossed polygon.
+    let off = "name = \"p1\"\nshape = { polygon = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]] }\ndensity = 5.0";
+    expect_error(|g| g.replacen(p1, off, 1), Some("shape ="), &["p1", "centroid", "move the shape by [-1e0, -5e-1"]);
+    expect_error(
+        |g| g.replacen(p1, &format!("{p1}\ndensity = 3.0"), 1),
+        Some("density = 3.0"),
+        &["p1", "needs a 'shape'"],
+    );
+    expect_error(
+        |g| g.replacen(p1, "name = \"p1\"\nshape = { box = [1.0, 1.0, 1.0] }", 1),
+        Some("shape ="),
+        &["p1", "'density'", "'mass'"],
+    );
+    let crossed = "name = \"p1\"\nshape = { polygon = [[-2.0, -1.0, 0.0], [2.0, -1.0, 0.0], [2.0, 1.0, 0.0], [-1.0, -2.0, 0.0], [-2.0, 1.0, 0.0]] }\ndensity = 1.0";
+    expect_error(|g| g.replacen(p1, crossed, 1), Some("shape ="), &["p1", "cross"]);
+    expect_error(|g| g.replacen(p1, "name = \"p1\"", 1), None, &["p1", "needs 'mass'"]);
+}

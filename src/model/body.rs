@@ -1,5 +1,6 @@
 //! A rigid body's mass properties (docs/model.md §2).
 
+use super::shape::Shape;
 use crate::math::Mat3;
 
 /// A rigid body (docs/model.md §2). Body 0 is the hub.
@@ -14,6 +15,9 @@ pub struct Body {
     pub inertia_in_body: Mat3,
     /// Inverse of `inertia_in_body`, 1/(kg·m²).
     pub(crate) inertia_inv_in_body: Mat3,
+    /// Its geometry, if given (body frame; for display and contact: the dynamics use the
+    /// mass and inertia alone).
+    pub shape: Option<Shape>,
 }
 
 impl Body {
@@ -53,6 +57,13 @@ impl Body {
         }
         let inertia_inv_in_body =
             sym.try_inverse().ok_or_else(|| format!("body '{name}': inertia tensor is singular"))?;
-        Ok(Self { name: name.to_string(), mass, inertia_in_body: sym, inertia_inv_in_body })
+        Ok(Self { name: name.to_string(), mass, inertia_in_body: sym, inertia_inv_in_body, shape: None })
+    }
+
+    /// The body with its geometry (which its mass and inertia should match; the scenario
+    /// reader checks that they do).
+    pub fn with_shape(mut self, shape: Shape) -> Self {
+        self.shape = Some(shape);
+        self
     }
 }

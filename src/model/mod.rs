@@ -4,9 +4,11 @@
 pub mod body;
 pub mod hinge;
 pub mod rates;
+pub mod shape;
 
 pub use body::Body;
 pub use hinge::{Hinge, HingeSpec, ParentFrame, Placement};
+pub use shape::{MassProperties, Shape};
 
 use crate::law::HingeLaw;
 use crate::math::{Euler321, Mat3, Vec3};

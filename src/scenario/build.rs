@@ -1,13 +1,14 @@
 //! A scenario ready to run: read, checked and turned into a model, initial conditions and
 //! run settings.
 
+use super::bodies::body;
 use super::error::{Ctx, ScenarioError, enclosing_item, in_user_words};
 use super::laws::law;
 use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
-use super::values::{angles, angular_rate, check_finite, matrix, positive, vec3};
+use super::values::{angles, angular_rate, check_finite, positive, vec3};
 use crate::dynamics::Dynamics;
 use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist, initial_state};
-use crate::model::{Body, HingeSpec, Model, ModelError, ParentFrame};
+use crate::model::{HingeSpec, Model, ModelError, ParentFrame};
 use crate::observe::{Selection, catalogue};
 use crate::simulate::settings::{MAX_DEFAULT_STEP_BUDGET, MAX_OUTPUT_ROWS, MIN_STEP_OF_DURATION, default_step_budget};
 use crate::simulate::{Integrator, RunSettings};
@@ -176,17 +177,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         if body_index.insert(name.clone(), i).is_some() {
             return Err(ctx.span(&b.name, format!("duplicate body name '{name}'; body names must be unique")));
         }
-        let inertia = matrix(b.inertia.get_ref())
-            .filter(|_| !matches!(b.inertia.get_ref(), toml::Value::Float(_) | toml::Value::Integer(_)));
-        let inertia = inertia.ok_or_else(|| {
-            ctx.span(&b.inertia, format!("body '{name}': 'inertia' must be 3 principal values [I1, I2, I3] or a full 3×3 tensor [[..],[..],[..]] in kg·m², body frame"))
-        })?;
-        let mass = *b.mass.get_ref();
-        let body = Body::new(name, mass, inertia).map_err(|m| {
-            let at = if mass > 0.0 && mass.is_finite() { b.inertia.span() } else { b.mass.span() };
-            ctx.at(Some(at), m)
-        })?;
-        bodies.push(body);
+        bodies.push(body(ctx, b)?);
     }
 
     // Hinges.

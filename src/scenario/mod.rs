@@ -7,6 +7,7 @@
 //! - `raw`: the file's structure as read; `values` and `laws`: its values and hinge laws;
 //! - [`error`]: [`ScenarioError`], located by file, line, column and key.
 
+mod bodies;
 pub mod build;
 pub mod error;
 mod laws;

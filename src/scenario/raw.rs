@@ -37,8 +37,20 @@ pub(super) struct RawRun {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawBody {
     pub(super) name: Spanned<String>,
-    pub(super) mass: Spanned<f64>,
-    pub(super) inertia: Spanned<toml::Value>,
+    pub(super) mass: Option<Spanned<f64>>,
+    pub(super) inertia: Option<Spanned<toml::Value>>,
+    pub(super) shape: Option<Spanned<RawShape>>,
+    pub(super) density: Option<Spanned<f64>>,
+}
+
+/// `shape = { polygon = [[x, y, z], …], thickness = … }` or `shape = { box = [a, b, c] }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawShape {
+    pub(super) polygon: Option<Vec<[f64; 3]>>,
+    pub(super) thickness: Option<f64>,
+    #[serde(rename = "box")]
+    pub(super) cuboid: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize)]

@@ -59,13 +59,18 @@ pub(super) fn header(out: &mut String, title: &str, p: &Params) {
     let _ = writeln!(out, "[[body]]\nname = \"hub\"\nmass = 500.0\ninertia = [400.0, 400.0, 400.0]\n");
 }
 
+/// Panel thickness, m.
+const PANEL_THICKNESS: f64 = 0.02;
+
+/// A panel: a rectangular plate spanning x (length) and z (width), thin along y, centred on
+/// its CoM; its inertia follows from the shape and the mass.
 pub(super) fn panel(out: &mut String, name: &str, p: &Params) {
-    // Plate spanning x (length) and z (width), thin in y.
-    let (m, l, w, t) = (p.panel_mass, p.panel_length, p.panel_width, 0.02);
-    let ix = m / 12.0 * (t * t + w * w);
-    let iy = m / 12.0 * (l * l + w * w);
-    let iz = m / 12.0 * (l * l + t * t);
-    let _ = writeln!(out, "[[body]]\nname = \"{name}\"\nmass = {m:?}\ninertia = [{ix:?}, {iy:?}, {iz:?}]\n");
+    let (m, hl, hw) = (p.panel_mass, 0.5 * p.panel_length, 0.5 * p.panel_width);
+    let _ = writeln!(
+        out,
+        "[[body]]\nname = \"{name}\"\nmass = {m:?}\nshape = {{ polygon = [[{:?}, 0.0, {:?}], [{hl:?}, 0.0, {:?}], [{hl:?}, 0.0, {hw:?}], [{:?}, 0.0, {hw:?}]], thickness = {PANEL_THICKNESS:?} }}\n",
+        -hl, -hw, -hw, -hl
+    );
 }
 
 pub(super) fn hinge(

@@ -378,6 +378,9 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             rel(d.energy_balance, scale)
         );
     }
+    if let Some(t) = r.deployed_90 {
+        println!("  deployment       90 % of the design radius at t = {t:.4} s");
+    }
     if !r.events.is_empty() || r.branch_events > 0 {
         println!(
             "  hinge events: {} located ({} stop or latch, {} hysteresis branch changes or table points)",

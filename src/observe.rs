@@ -51,6 +51,16 @@ pub struct Observation {
     pub momentum_scale: f64,
     /// Scale of angular momentum `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)`, kg·m²/s.
     pub angular_momentum_scale: f64,
+    /// The hub's angular velocity about the spin axis (see [`Observer::new`]), rad/s.
+    pub spin_rate: f64,
+    /// The structure's moment of inertia about the spin axis through the barycenter, kg·m².
+    pub inertia_about_spin_axis: f64,
+    /// The largest distance of a panel (its shape's outline, or its CoM) from the spin axis
+    /// through the barycenter, m.
+    pub deployed_radius: f64,
+    /// `deployed_radius` over the same radius in the deployed design (every tree coordinate
+    /// zero); NaN for a structure without panels.
+    pub deployed_fraction: f64,
 }
 
 impl Observation {
@@ -69,12 +79,40 @@ impl Observation {
 #[derive(Clone, Debug)]
 pub struct Observer {
     hub_theta_ref: Euler321,
+    /// The spin axis, a unit vector, N components.
+    spin_axis_in_n: Vec3,
+    /// Per body: the points whose distance from the spin axis measures the deployment (its
+    /// shape's outline, or its CoM), body frame; empty for the hub.
+    outline: Vec<Vec<Vec3>>,
+    /// The deployed radius of the design (tree coordinates zero), m.
+    design_radius: f64,
 }
 
 impl Observer {
-    /// An observer whose hub angles start near `hub_theta` (the initial condition).
-    pub fn new(hub_theta: Euler321) -> Self {
-        Self { hub_theta_ref: hub_theta }
+    /// An observer of `model` whose hub angles start near `hub_theta` (the initial
+    /// condition). The spin axis is fixed in N: along the initial angular momentum
+    /// `h0_in_n` if it has one, else along the hub's z axis at the start. The design radius
+    /// is measured in the zero configuration, about the spin axis as the hub sees it at the
+    /// start, through that configuration's barycenter.
+    pub fn new(model: &Model, hub_theta: Euler321, h0_in_n: &Vec3) -> Self {
+        let dcm_n_hub = hub_theta.to_dcm().transpose();
+        let spin_axis_in_n = if h0_in_n.norm() > 0.0 { h0_in_n.normalize() } else { dcm_n_hub * Vec3::z() };
+        let outline: Vec<Vec<Vec3>> = model
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| match (i, &b.shape) {
+                (0, _) => Vec::new(),
+                (_, Some(s)) => s.outline(),
+                (_, None) => vec![Vec3::zeros()],
+            })
+            .collect();
+        let zero = model.zero_configuration();
+        let axis_in_hub = dcm_n_hub.transpose() * spin_axis_in_n;
+        let total = model.total_mass();
+        let center = zero.iter().zip(&model.bodies).map(|((r, _), b)| r * b.mass).sum::<Vec3>() / total;
+        let design_radius = radius(&zero, &outline, &center, &axis_in_hub);
+        Self { hub_theta_ref: hub_theta, spin_axis_in_n, outline, design_radius }
     }
 
     /// Every output of docs/model.md §5 at time `t` for state `y` (bodies, then per-hinge
@@ -128,6 +166,9 @@ impl Observer {
             p_scale += p.norm();
             h_scale += orbital.norm() + spin.norm();
         }
+        let barycenter = mass_moment / model.total_mass();
+        let poses: Vec<(Vec3, crate::math::Mat3)> = motions.iter().map(|m| (m.r_in_n, m.dcm_n_b)).collect();
+        let deployed_radius = radius(&poses, &self.outline, &barycenter, &self.spin_axis_in_n);
         Observation {
             t,
             hub_r_in_n: hub.r_in_n,
@@ -142,7 +183,7 @@ impl Observer {
             body_theta: motions.iter().map(|m| Euler321::from_dcm(&m.dcm_n_b.transpose())).collect(),
             body_v_in_n: motions.iter().map(|m| m.v_in_n).collect(),
             body_omega_in_body: motions.iter().map(|m| m.omega_in_body()).collect(),
-            barycenter_in_n: mass_moment / model.total_mass(),
+            barycenter_in_n: barycenter,
             momentum_in_n: momentum,
             angular_momentum_in_n: angular,
             kinetic_energy: kinetic,
@@ -150,8 +191,39 @@ impl Observer {
             hinge_dissipated,
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
+            spin_rate: hub.omega_in_n.dot(&self.spin_axis_in_n),
+            inertia_about_spin_axis: inertia_about(model, &motions, &barycenter, &self.spin_axis_in_n),
+            deployed_radius,
+            deployed_fraction: if self.design_radius > 0.0 { deployed_radius / self.design_radius } else { f64::NAN },
         }
     }
+}
+
+/// The largest distance from the axis through `center` along the unit vector `axis` of any
+/// outline point of the bodies at `poses` (`(R in N, [N i])`), m.
+fn radius(poses: &[(Vec3, crate::math::Mat3)], outline: &[Vec<Vec3>], center: &Vec3, axis: &Vec3) -> f64 {
+    poses
+        .iter()
+        .zip(outline)
+        .flat_map(|((r, dcm), points)| points.iter().map(move |p| r + dcm * p - center))
+        .map(|d| (d - axis * d.dot(axis)).norm())
+        .fold(0.0, f64::max)
+}
+
+/// The moment of inertia of the bodies at `motions` about the axis through `center` along
+/// the unit vector `axis`, kg·m²: `Σ m_i |r_i⊥|² + aᵀ [N i] I_i [i N] a`.
+fn inertia_about(model: &Model, motions: &[BodyMotion], center: &Vec3, axis: &Vec3) -> f64 {
+    model
+        .bodies
+        .iter()
+        .zip(motions)
+        .map(|(b, m)| {
+            let d = m.r_in_n - center;
+            let perp = d - axis * d.dot(axis);
+            let a_in_body = m.dcm_n_b.transpose() * axis;
+            b.mass * perp.norm_squared() + a_in_body.dot(&(b.inertia_in_body * a_in_body))
+        })
+        .sum()
 }
 
 /// One output column.
@@ -195,6 +267,7 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     push(&mut c, "P", XYZ, true);
     push(&mut c, "H", XYZ, true);
     c.extend(["T", "V", "E", "D"].map(|n| Column { name: n.into(), default: true }));
+    c.extend(["spin_rate", "I_spin", "radius", "deployed"].map(|n| Column { name: n.into(), default: true }));
     c
 }
 
@@ -223,6 +296,7 @@ pub fn row(o: &Observation) -> Vec<f64> {
     v(&mut r, &o.momentum_in_n);
     v(&mut r, &o.angular_momentum_in_n);
     r.extend_from_slice(&[o.kinetic_energy, o.hinge_energy, o.energy(), o.dissipated()]);
+    r.extend_from_slice(&[o.spin_rate, o.inertia_about_spin_axis, o.deployed_radius, o.deployed_fraction]);
     r
 }
 

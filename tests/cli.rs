@@ -38,7 +38,7 @@ fn run_writes_csv_and_report() {
     let mut lines = text.lines();
     let header = lines.next().unwrap();
     assert!(header.starts_with("t,R_B_x,R_B_y,R_B_z,BR_B_x"));
-    assert!(header.contains("h32_delta_x") && header.ends_with("T,V,E,D"));
+    assert!(header.contains("h32_delta_x") && header.ends_with("T,V,E,D,spin_rate,I_spin,radius,deployed"));
     assert_eq!(lines.count(), 401, "rows at 0, 0.05, …, 20 s");
     assert!(!dir.join("out.csv.partial").exists());
     // Not on a terminal: no progress output.

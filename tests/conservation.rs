@@ -137,4 +137,24 @@ fn radial_panels_share_the_spin_as_they_open() {
     let expected = w0 * inertia_about_z(first) / inertia_about_z(last);
     assert!(((w1 - expected) / expected).abs() < 1e-6, "spin {w1} rad/s, ω0 I0 / I1 = {expected}");
     assert!(w1 < 0.95 * w0, "the spin drops as the panels open");
+
+    // The spin-deployment columns: the spin rate is the hub's ω about H (here its z axis);
+    // I_spin × spin_rate is H in the first and last rows (rigid rotations, 1e-12); the
+    // deployed fraction runs from the stowed plates' corners (√(0.5² + 0.3²) m from the
+    // axis) over the deployed ones' (√(1.5² + 0.3²) m) to 1 (the stiff hinges stretch
+    // 1e-5 m under the spin: bound 1e-4), and the report times 90 % between the rows.
+    let (spin, inertia, deployed) = (table.col("spin_rate"), table.col("I_spin"), table.col("deployed"));
+    for row in &table.rows {
+        assert!((row[spin] - row[w]).abs() < 1e-12, "spin_rate is w_B_z about a z-aligned H");
+    }
+    let (r0, r1) = (&table.rows[0], table.rows.last().unwrap());
+    let (h0, h1) = (r0[inertia] * r0[spin], r1[inertia] * r1[spin]);
+    assert!(((h1 - h0) / h0).abs() < 1e-12, "I_spin ω: {h0} → {h1}");
+    assert!((r0[inertia] - inertia_about_z(first)).abs() < 1e-12 * r0[inertia]);
+    let stowed = (0.34f64 / 2.34).sqrt();
+    assert!((r0[deployed] - stowed).abs() < 1e-12, "stowed fraction {} vs {stowed}", r0[deployed]);
+    assert!((r1[deployed] - 1.0).abs() < 1e-4, "deployed fraction {}", r1[deployed]);
+    let t90 = report.deployed_90.expect("90 % deployed");
+    let crossed = table.rows.windows(2).find(|w| w[0][deployed] < 0.9 && w[1][deployed] >= 0.9).expect("a crossing");
+    assert!(t90 >= crossed[0][0] && t90 <= crossed[1][0], "90 % at {t90} s");
 }

@@ -272,7 +272,7 @@ fn extremes() -> Vec<(String, String)> {
         ("child_com 1e300", "child_com = [0.5, 0.0, 0.0]", "child_com = [1e300, 0.0, 0.0]"),
         ("offset 1e5", "position = [0.5, 0.0, 0.0]", "position = [1e5, 0.0, 0.0]"),
         ("offset 1e19", "position = [0.5, 0.0, 0.0]", "position = [1e19, 0.0, 0.0]"),
-        ("inertia 1e-12", "inertia = [0.06", "inertia = [1e-12, 1e-12, 1e-12]\n#"),
+        ("inertia 1e-12", "mass = 2.0\nshape", "mass = 2.0\ninertia = [1e-12, 1e-12, 1e-12]\n# shape"),
         ("tolerances 1e-20", "rtol = 1e-8\natol = 1e-8", "rtol = 1e-20\natol = 1e-20"),
         ("atol 1e-30", "atol = 1e-8", "atol = 1e-30"),
         ("yaw 1e17 deg", "yaw_deg = 30.0", "yaw_deg = 1e17"),

@@ -64,4 +64,14 @@ impl Dynamics<'_> {
         let scale = (p0.norm() + h0.norm()).max(1e-300);
         (dv.norm() * total + (inertia * dw).norm()) / scale
     }
+
+    /// Angular momentum about the barycenter, kg·m²/s, N components: `H − R_c × P`.
+    pub fn momentum_about_barycenter(&self, y: &[f64]) -> Vec3 {
+        let (p, h) = self.momenta(y);
+        let model = self.model;
+        let rc =
+            (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i).r_in_n * model.bodies[i].mass).sum::<Vec3>()
+                / model.total_mass();
+        h - rc.cross(&p)
+    }
 }

@@ -74,6 +74,9 @@ pub struct RunReport {
     pub branch_events: usize,
     /// Per hinge: energy dissipated over the run, J.
     pub hinge_dissipated: Vec<f64>,
+    /// When the structure first reached 90 % of its deployed design radius, from below
+    /// (interpolated between output rows), s; `None` if it did not.
+    pub deployed_90: Option<f64>,
     /// Of `rhs_evaluations`, those that solved for engaged locks.
     pub constrained_evaluations: u64,
     /// Locks that engaged (carried load), with the time from which they were solved for

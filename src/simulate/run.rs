@@ -60,6 +60,8 @@ struct StreamOut<'d, 'm, 's, 'p> {
     /// Whether the momenta are restored after every step, output rows included (the implicit
     /// path), rather than only after projections.
     restore_every_step: bool,
+    /// When the deployed fraction first reached 0.9 (from below), s.
+    deployed_90: Option<f64>,
 }
 
 /// Output times `k · step` below `end`, then `end`.
@@ -108,6 +110,15 @@ impl StreamOut<'_, '_, '_, '_> {
         } else {
             self.drift.energy_initial = o.energy();
             self.first = Some(o.clone());
+        }
+        // The first time the structure is 90 % deployed, between the rows that cross it.
+        if self.deployed_90.is_none()
+            && let Some(last) = &self.last
+            && last.deployed_fraction < 0.9
+            && o.deployed_fraction >= 0.9
+        {
+            let s = (0.9 - last.deployed_fraction) / (o.deployed_fraction - last.deployed_fraction);
+            self.deployed_90 = Some(last.t + s * (o.t - last.t));
         }
         for lock in self.dynamics.locks().iter() {
             let d = &mut self.drift;
@@ -406,7 +417,7 @@ pub fn simulate(
     let mut out = StreamOut {
         dynamics: &dynamics,
         total_mass: model.total_mass(),
-        observer: Observer::new(ic.hub_attitude),
+        observer: Observer::new(model, ic.hub_attitude, &dynamics.momentum_about_barycenter(&y0)),
         sink,
         progress,
         output_times: OutputTimes { step: settings.output_step, end: settings.duration, next: 0, done: false },
@@ -429,6 +440,7 @@ pub fn simulate(
         // momenta exactly without touching the internal motion (or the locked rates).
         momenta: (implicit || dynamics.has_locks()).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
+        deployed_90: None,
     };
     let limits = settings.limits(model);
     let start = Instant::now();
@@ -475,6 +487,7 @@ pub fn simulate(
         events: out.events,
         branch_events: out.branch_events,
         stiff_from: stats.stiff_from,
+        deployed_90: out.deployed_90,
         newton_iterations: stats.newton_iterations,
         jacobians: stats.jacobians,
         differenced_jacobians,

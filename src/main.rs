@@ -378,6 +378,9 @@ fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             rel(d.energy_balance, scale)
         );
     }
+    if let Some(t) = r.released_at {
+        println!("  restraint        released at t = {t:.4} s");
+    }
     if let Some(t) = r.deployed_90 {
         println!("  deployment       90 % of the design radius at t = {t:.4} s");
     }

@@ -158,3 +158,39 @@ fn radial_panels_share_the_spin_as_they_open() {
     let crossed = table.rows.windows(2).find(|w| w[0][deployed] < 0.9 && w[1][deployed] >= 0.9).expect("a crossing");
     assert!(t90 >= crossed[0][0] && t90 <= crossed[1][0], "90 % at {t90} s");
 }
+
+/// A restraint holds the stowed state until `run.release_at`: until then the structure turns
+/// as one rigid body (every hinge angle at its initial value, the spin rate constant), and
+/// afterwards the panels open exactly as in the run released at t = 0, two seconds later:
+/// the relative motion is the same because the rigid phase only turns the whole structure
+/// about its momentum axis. Bounds: the held angles to 1e-9 rad (the locks' drift limit is
+/// 1e-11, with projections), the shifted motion to 1e-6 rad (both runs at rtol 1e-10 over a
+/// latching deployment), the spin to 1e-12 relative.
+#[test]
+fn a_restraint_holds_the_stowed_state_until_release() {
+    let free = scenario("examples/radial-spin.toml");
+    let held = common::example_variant("radial-spin.toml", &[(&["duration"], "20.0\nrelease_at = 2.0")]);
+    assert_eq!(held.settings.release_at, Some(2.0));
+    let (a, _, ra) = run(&free);
+    let (b, _, rb) = run(&held);
+    assert_eq!(rb.released_at, Some(2.0));
+    let yaw = (1..=4).map(|k| b.col(&format!("h{k}_yaw"))).collect::<Vec<_>>();
+    let spin = b.col("spin_rate");
+    for row in b.rows.iter().filter(|r| r[0] <= 2.0) {
+        for &c in &yaw {
+            assert!((row[c] - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "t = {}: held yaw {}", row[0], row[c]);
+        }
+        assert!((row[spin] / b.rows[0][spin] - 1.0).abs() < 1e-12, "t = {}: spin {}", row[0], row[spin]);
+    }
+    let mut worst = 0.0f64;
+    for rb_row in b.rows.iter().filter(|r| r[0] >= 2.0) {
+        let t = rb_row[0] - 2.0;
+        let Some(ra_row) = a.rows.iter().find(|r| (r[0] - t).abs() < 1e-9) else { continue };
+        for &c in &yaw {
+            worst = worst.max((rb_row[c] - ra_row[c]).abs());
+        }
+    }
+    assert!(worst < 1e-6, "released motion differs from the free run shifted by 2 s: {worst:e} rad");
+    let dt = rb.deployed_90.unwrap() - ra.deployed_90.unwrap();
+    assert!((dt - 2.0).abs() < 1e-6, "90 % deployed {dt} s later");
+}

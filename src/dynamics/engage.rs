@@ -28,8 +28,70 @@ impl Dynamics<'_> {
     /// its locks disengaged and engages each once it drifts follows the locks at the cost of
     /// a drift check per step.
     pub fn disengage_locks(&self) {
-        let n = self.locks.borrow().len();
-        self.set_engaged(vec![false; n]);
+        // The restraint's locks hold the stowed state from the start: they carry its load.
+        let engaged = self.restraint.borrow().iter().map(|&r| r && !self.released.get()).collect();
+        self.set_engaged(engaged);
+    }
+
+    /// Holds the state `y` (the stowed configuration) with a restraint: every tree hinge's
+    /// directions that its law does not lock already are locked at their values in `y`, so
+    /// the structure turns as one rigid body (loop hinges follow, unloaded) until
+    /// [`Self::release_restraint`]. Call after [`Self::initialize_memory`].
+    pub fn restrain_tree_hinges(&self, y: &[f64]) {
+        let model = self.model;
+        let old = self.locks.borrow().clone();
+        let refs = self.theta_refs.borrow().clone();
+        let mut locks = Vec::with_capacity(old.len() + 6 * model.tree.len());
+        let mut restraint = Vec::with_capacity(locks.capacity());
+        let mut ranges = vec![0..0; model.hinges.len()];
+        for (i, h) in model.hinges.iter().enumerate() {
+            let first = locks.len();
+            let own: Vec<Lock> = old.iter().filter(|l| l.hinge == i).copied().collect();
+            let restrained = model.is_tree_hinge[i];
+            let k = restrained.then(|| {
+                crate::kinematics::hinge_kinematics(
+                    h,
+                    &BodyMotion::from_state(y, h.parent),
+                    &BodyMotion::from_state(y, h.child),
+                    &refs[i],
+                )
+            });
+            for d in 0..6 {
+                if let Some(l) = own.iter().find(|l| l.direction == d) {
+                    locks.push(*l);
+                    restraint.push(false);
+                } else if let Some(k) = &k {
+                    let target = if d < 3 {
+                        k.state.delta_in_a0[d]
+                    } else {
+                        k.state.theta.as_vector()[super::locks::euler_index(d)]
+                    };
+                    locks.push(Lock { hinge: i, direction: d, target });
+                    restraint.push(true);
+                }
+            }
+            ranges[i] = first..locks.len();
+        }
+        let n = locks.len();
+        *self.locks.borrow_mut() = locks;
+        *self.lock_ranges.borrow_mut() = ranges;
+        *self.restraint.borrow_mut() = restraint;
+        self.released.set(false);
+        self.set_engaged(vec![true; n]);
+    }
+
+    /// Lets the restraint go: its locks disengage and never engage again; the laws' own
+    /// locks stay as they are.
+    pub fn release_restraint(&self) {
+        self.released.set(true);
+        let engaged =
+            self.engaged.borrow().iter().zip(self.restraint.borrow().iter()).map(|(&e, &r)| e && !r).collect();
+        self.set_engaged(engaged);
+    }
+
+    /// Per lock (as in [`Self::locks`]): whether it is the restraint's.
+    pub fn restraint_locks(&self) -> std::cell::Ref<'_, Vec<bool>> {
+        self.restraint.borrow()
     }
 
     /// Engages every disengaged lock whose coordinate or rate has drifted beyond
@@ -46,9 +108,12 @@ impl Dynamics<'_> {
             let ranges = self.lock_ranges.borrow();
             let refs = self.theta_refs.borrow();
             let engaged = self.engaged.borrow();
-            for range in ranges.iter().filter(|r| engaged[(*r).clone()].contains(&false)) {
+            let restraint = self.restraint.borrow();
+            // A released restraint's locks never engage again.
+            let idle = |k: usize| !(engaged[k] || restraint[k] && self.released.get());
+            for range in ranges.iter().filter(|r| (*r).clone().any(&idle)) {
                 let moved = drift_mask(self.model, &locks[range.clone()], &refs, y);
-                out.extend(range.clone().filter(|&k| !engaged[k] && moved & (1 << (k - range.start)) != 0));
+                out.extend(range.clone().filter(|&k| idle(k) && moved & (1 << (k - range.start)) != 0));
             }
         }
         if !out.is_empty() {

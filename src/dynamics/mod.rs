@@ -53,6 +53,11 @@ pub struct Dynamics<'m> {
     /// drifts (see [`Self::engage_drifted_locks`]): a lock that never carries load costs a
     /// drift check per step and nothing per evaluation.
     engaged: RefCell<Vec<bool>>,
+    /// Per lock (as in `locks`): whether it is the restraint's (see
+    /// [`Self::restrain_tree_hinges`]) rather than a law's.
+    restraint: RefCell<Vec<bool>>,
+    /// Whether the restraint has let go.
+    released: Cell<bool>,
     /// The engaged locks (grouped by hinge in hinge order), and per hinge their range there.
     active: RefCell<(Vec<Lock>, Vec<std::ops::Range<usize>>)>,
     event_offsets: Vec<usize>,
@@ -97,6 +102,8 @@ impl<'m> Dynamics<'m> {
             locks: RefCell::new(Vec::new()),
             lock_ranges: RefCell::new(vec![0..0; model.hinges.len()]),
             engaged: RefCell::new(Vec::new()),
+            restraint: RefCell::new(Vec::new()),
+            released: Cell::new(false),
             active: RefCell::new((Vec::new(), vec![0..0; model.hinges.len()])),
             event_offsets,
             scratch: RefCell::new(Scratch {
@@ -178,6 +185,7 @@ impl<'m> Dynamics<'m> {
         });
         *self.memories.borrow_mut() = mem;
         let n = locks.len();
+        *self.restraint.borrow_mut() = vec![false; n];
         *self.locks.borrow_mut() = locks;
         *self.lock_ranges.borrow_mut() = ranges;
         self.set_engaged(vec![true; n]);

@@ -163,7 +163,18 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         Some(v) if *v.get_ref() > 0 => Some(*v.get_ref() as usize),
         Some(v) => return Err(ctx.span(v, format!("'run.max_steps' must be a whole number > 0, got {}", v.get_ref()))),
     };
-    let settings = RunSettings { duration, output_step, integrator, engage_locks_at_start: false, max_steps };
+    let release_at = match &run.release_at {
+        None => None,
+        Some(v) if *v.get_ref() > 0.0 && *v.get_ref() < duration => Some(*v.get_ref()),
+        Some(v) => {
+            return Err(ctx.span(
+                v,
+                format!("'run.release_at' must lie between 0 and run.duration = {duration} s, got {}", v.get_ref()),
+            ));
+        }
+    };
+    let settings =
+        RunSettings { duration, output_step, integrator, engage_locks_at_start: false, max_steps, release_at };
 
     // Bodies.
     if raw.bodies.is_empty() {

@@ -29,6 +29,7 @@ pub(super) struct RawRun {
     pub(super) atol: Option<Spanned<f64>>,
     pub(super) step: Option<Spanned<f64>>,
     pub(super) max_steps: Option<Spanned<i64>>,
+    pub(super) release_at: Option<Spanned<f64>>,
     pub(super) columns: Option<Spanned<Vec<String>>>,
     pub(super) csv: Option<String>,
 }

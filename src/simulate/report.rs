@@ -74,6 +74,9 @@ pub struct RunReport {
     pub branch_events: usize,
     /// Per hinge: energy dissipated over the run, J.
     pub hinge_dissipated: Vec<f64>,
+    /// When the restraint that held the initial (stowed) state let go, s (see
+    /// [`crate::simulate::RunSettings::release_at`]).
+    pub released_at: Option<f64>,
     /// When the structure first reached 90 % of its deployed design radius, from below
     /// (interpolated between output rows), s; `None` if it did not.
     pub deployed_90: Option<f64>,

@@ -62,6 +62,10 @@ struct StreamOut<'d, 'm, 's, 'p> {
     restore_every_step: bool,
     /// When the deployed fraction first reached 0.9 (from below), s.
     deployed_90: Option<f64>,
+    /// When the restraint is to let go, s, until it has.
+    release_at: Option<f64>,
+    /// When it let go, s.
+    released_at: Option<f64>,
 }
 
 /// Output times `k · step` below `end`, then `end`.
@@ -120,7 +124,8 @@ impl StreamOut<'_, '_, '_, '_> {
             let s = (0.9 - last.deployed_fraction) / (o.deployed_fraction - last.deployed_fraction);
             self.deployed_90 = Some(last.t + s * (o.t - last.t));
         }
-        for lock in self.dynamics.locks().iter() {
+        let restraint = self.dynamics.restraint_locks();
+        for lock in self.dynamics.locks().iter().zip(restraint.iter()).filter(|(_, r)| !**r).map(|(l, _)| l) {
             let d = &mut self.drift;
             if lock.direction < 3 {
                 let q = o.hinge_delta_in_a0[lock.hinge][lock.direction];
@@ -329,6 +334,14 @@ impl StreamOut<'_, '_, '_, '_> {
                 None => None,
             },
         };
+        if let Some(tr) = self.release_at
+            && step.t > tr + tiny
+            && step.t_prev < tr - tiny
+        {
+            // The step passes the release: take it again to end there.
+            self.pending = None;
+            return Ok(Control::Truncate { t: tr });
+        }
         if let Some(k) = event {
             self.emit_until(step, step.t, step.y)?;
             self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
@@ -350,6 +363,13 @@ impl StreamOut<'_, '_, '_, '_> {
         }
         self.t_reached = step.t;
         self.report_progress(step.t)?;
+        if self.release_at.is_some_and(|tr| (step.t - tr).abs() <= tiny) {
+            // The restraint lets go at the end of this step (which was cut to end there).
+            self.release_at = None;
+            self.released_at = Some(step.t);
+            self.dynamics.release_restraint();
+            return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
+        }
         if step.t > step.t_prev && (self.dynamics.has_locks() || self.momenta.is_some()) {
             let mut y = step.y.to_vec();
             if self.correct(&mut y) {
@@ -402,6 +422,9 @@ pub fn simulate(
     let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
     dynamics.initialize_memory(&y0);
+    if settings.release_at.is_some() {
+        dynamics.restrain_tree_hinges(&y0);
+    }
     if let Some(cause) = dynamics.non_finite_cause(&y0) {
         return Err(SimError::Physics(format!("the initial state: {cause}")));
     }
@@ -441,6 +464,8 @@ pub fn simulate(
         momenta: (implicit || dynamics.has_locks()).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
         deployed_90: None,
+        release_at: settings.release_at,
+        released_at: None,
     };
     let limits = settings.limits(model);
     let start = Instant::now();
@@ -479,7 +504,8 @@ pub fn simulate(
         steps_rejected: stats.rejected,
         rhs_evaluations: dynamics.evaluations(),
         rows: out.rows,
-        drift: Drift { locks: dynamics.locks().len(), ..out.drift },
+        drift: Drift { locks: dynamics.restraint_locks().iter().filter(|r| !**r).count(), ..out.drift },
+        released_at: out.released_at,
         energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy()),
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
         constrained_evaluations: dynamics.constrained_evaluations(),

@@ -64,6 +64,10 @@ pub struct RunSettings {
     /// Most integration steps, accepted and rejected (`run.max_steps`); `None` for the
     /// default of [`default_step_budget`].
     pub max_steps: Option<usize>,
+    /// Holds the initial (stowed) state with a restraint until this time, s (`run.release_at`,
+    /// 0 < t < duration): every tree hinge is locked where it starts, so the structure turns
+    /// as one rigid body; then the restraint lets go.
+    pub release_at: Option<f64>,
 }
 
 /// The most output rows a run writes (`duration / output_step`): ten million rows of even the

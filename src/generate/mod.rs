@@ -2,6 +2,8 @@
 //! write scenarios; nothing downstream knows who wrote one).
 //!
 //! - [`zfold()`]: a z-folded chain of N panels off the hub, stowed with alternating folds.
+//! - [`sheet::sheet_scenario`]: any folded sheet from its nodes in the deployed and stowed
+//!   states and its panels (the flasher's builder).
 //! - [`grid()`]: an R × C grid of panels, each hinged to its neighbours along both grid
 //!   directions, the corner panel to the hub: (R−1)(C−1) hinges close loops.
 //!
@@ -10,6 +12,7 @@
 
 pub mod grid;
 pub mod params;
+pub mod sheet;
 pub mod zfold;
 
 pub use grid::grid;

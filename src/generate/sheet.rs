@@ -1,0 +1,431 @@
+//! A folded sheet as a scenario: rigid panels (polygons of nodes) known in two states, the
+//! deployed design and the stowed configuration, joined by a hinge on every crease (an edge
+//! two panels share). Whatever pattern the nodes come from (a flasher, a Miura sheet), the
+//! scenario is built the same way:
+//!
+//! - every panel is a body whose frame has its origin at the panel's centroid, its x axis along
+//!   the panel's first edge and its z axis along the panel's normal, in the deployed state; its
+//!   shape is the polygon (with the sheet's thickness) and its mass follows from the areal
+//!   density; panel 0 is the hub, with the mass and inertia given;
+//! - every crease is a hinge whose A0 and A frames coincide in the deployed state (so the
+//!   deployed design is stress-free), with their origin at the crease's midpoint and their
+//!   z axis along the crease, so a fold is a yaw, far from the 3-2-1 singularity even near
+//!   180°; hinges of a spanning tree from the hub take the stowed state as their initial
+//!   values; the others close loops, with their A0 assembled in the deployed design;
+//! - the stowed pose of a panel is the rigid motion that best carries its deployed nodes to
+//!   its stowed ones (least squares; exact when the panel is rigid in the pattern), and how far
+//!   a node is off it is reported: panels that must bend to stow carry strain.
+
+use crate::math::{Euler321, Mat3, Vec3};
+use crate::model::Shape;
+use std::collections::{BTreeMap, VecDeque};
+use std::fmt::Write;
+
+/// A sheet: node positions in both states and its panels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sheet {
+    /// Node positions in the deployed design, m.
+    pub deployed: Vec<Vec3>,
+    /// The same nodes in the stowed configuration, m.
+    pub stowed: Vec<Vec3>,
+    /// Panels: the nodes round each, in order; panel 0 is the hub.
+    pub panels: Vec<Vec<usize>>,
+}
+
+/// The response of one kind of crease: an `euler-potential` law, the fold about A's z axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CreaseLaw {
+    /// Stiffness of the three translations, N/m.
+    pub k_translation: f64,
+    /// Stiffness of the two rotations that are not the fold, N·m/rad.
+    pub k_rotation: f64,
+    /// Fold stiffness, N·m/rad (rest at the deployed design).
+    pub k_fold: f64,
+    /// Damping of the translations, N·s/m.
+    pub c_translation: f64,
+    /// Damping of the rotations, N·m·s/rad.
+    pub c_rotation: f64,
+}
+
+/// What a sheet is made of and how its scenario runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SheetParams {
+    /// Title of the scenario.
+    pub title: String,
+    /// Mass per unit area of the panels, kg/m².
+    pub areal_density: f64,
+    /// Panel thickness, m (≥ 0; mass properties only).
+    pub thickness: f64,
+    /// Hub mass, kg.
+    pub hub_mass: f64,
+    /// Hub principal inertia about its centroid in its frame (x along its first edge, z its
+    /// normal), kg·m².
+    pub hub_inertia: [f64; 3],
+    /// Initial hub spin about its z axis, rev/min.
+    pub spin_rpm: f64,
+    /// Simulated time, s; output step, s; relative and absolute tolerance.
+    pub duration: f64,
+    /// Output step, s.
+    pub output_step: f64,
+    /// Tolerance (rtol = atol).
+    pub tolerance: f64,
+}
+
+/// What the builder found.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SheetReport {
+    /// Panels (the hub included) and hinges.
+    pub panels: usize,
+    /// Hinges, one per crease.
+    pub hinges: usize,
+    /// Independent loops: hinges − panels + 1.
+    pub loops: usize,
+    /// The largest relative difference of an edge's length between the two states.
+    pub edge_mismatch: f64,
+    /// The largest distance of a stowed node from its panel's rigid stowed pose, m: zero for
+    /// panels that stow without bending.
+    pub panel_strain: f64,
+    /// Per hinge, its stowed fold angle (yaw of `[A A0]`), rad, and its largest off-fold
+    /// deflection (|δ| in m, or pitch and roll in rad).
+    pub folds: Vec<(String, f64, f64)>,
+}
+
+/// A panel's body frame in one state: `(centroid, [N body])`.
+type Pose = (Vec3, Mat3);
+
+/// The rigid motion `(R, t)` that best carries points `a` onto `b` (Kabsch, by SVD).
+fn fit(a: &[Vec3], b: &[Vec3]) -> (Mat3, Vec3) {
+    let ca = a.iter().sum::<Vec3>() / a.len() as f64;
+    let cb = b.iter().sum::<Vec3>() / b.len() as f64;
+    let h: Mat3 = a.iter().zip(b).map(|(p, q)| (q - cb) * (p - ca).transpose()).sum();
+    let svd = h.svd(true, true);
+    let (u, vt) = (svd.u.expect("u"), svd.v_t.expect("v"));
+    let d = (u * vt).determinant().signum();
+    let r = u * Mat3::from_diagonal(&Vec3::new(1.0, 1.0, d)) * vt;
+    (r, cb - r * ca)
+}
+
+/// Builds the scenario text of `sheet`, with `law(a, b)` the law of the crease between nodes
+/// a and b. Fails naming the panel or crease if the sheet is not a connected set of simple
+/// planar panels, each edge shared by at most two of them.
+pub fn sheet_scenario(
+    sheet: &Sheet,
+    law: impl Fn(usize, usize) -> CreaseLaw,
+    p: &SheetParams,
+) -> Result<(String, SheetReport), String> {
+    let (dep, sto) = (&sheet.deployed, &sheet.stowed);
+    if dep.len() != sto.len() {
+        return Err(format!("{} deployed nodes but {} stowed ones", dep.len(), sto.len()));
+    }
+    if sheet.panels.len() < 2 {
+        return Err("a sheet needs a hub and at least one panel".into());
+    }
+    // Panels: their deployed frames, shapes in their frames, and stowed poses.
+    let mut deployed_pose: Vec<Pose> = Vec::new();
+    let mut stowed_pose: Vec<Pose> = Vec::new();
+    let mut local: Vec<Vec<Vec3>> = Vec::new();
+    let mut report = SheetReport::default();
+    for (k, nodes) in sheet.panels.iter().enumerate() {
+        if nodes.len() < 3 || nodes.iter().any(|&n| n >= dep.len()) {
+            return Err(format!("panel {k}: needs 3 or more nodes of the sheet"));
+        }
+        let world: Vec<Vec3> = nodes.iter().map(|&n| dep[n]).collect();
+        let shape = Shape::Plate { vertices: world.clone(), thickness: p.thickness };
+        shape.check().map_err(|m| format!("panel {k}: {m}"))?;
+        let centroid = shape.mass_properties(1.0).centroid;
+        let normal = (0..world.len())
+            .map(|i| (world[i] - world[0]).cross(&(world[(i + 1) % world.len()] - world[0])))
+            .sum::<Vec3>()
+            .normalize();
+        let u = (world[1] - world[0]).normalize();
+        let v = normal.cross(&u);
+        let frame = Mat3::from_columns(&[u, v, normal]);
+        local.push(world.iter().map(|x| frame.transpose() * (x - centroid)).collect());
+        let stowed: Vec<Vec3> = nodes.iter().map(|&n| sto[n]).collect();
+        let (r, t) = fit(&world, &stowed);
+        for (x, s) in world.iter().zip(&stowed) {
+            report.panel_strain = report.panel_strain.max((r * x + t - s).norm());
+        }
+        deployed_pose.push((centroid, frame));
+        stowed_pose.push((r * centroid + t, r * frame));
+    }
+    // Creases: edges two panels share (key: the edge's nodes, lower first; value: the panels).
+    let mut edges: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+    for (k, nodes) in sheet.panels.iter().enumerate() {
+        for i in 0..nodes.len() {
+            let (a, b) = (nodes[i], nodes[(i + 1) % nodes.len()]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(k);
+            let (ld, ls) = ((dep[a] - dep[b]).norm(), (sto[a] - sto[b]).norm());
+            report.edge_mismatch = report.edge_mismatch.max((ld - ls).abs() / ld);
+        }
+    }
+    let mut creases = Vec::new();
+    for ((a, b), sides) in &edges {
+        match sides.len() {
+            1 => {}
+            2 => creases.push((*a, *b, sides[0], sides[1])),
+            _ => {
+                return Err(format!(
+                    "the edge from node {a} to node {b} is shared by {} panels; at most 2",
+                    sides.len()
+                ));
+            }
+        }
+    }
+    // Breadth-first over the creases from the hub: the tree, and each panel's place in it.
+    let mut order = vec![usize::MAX; sheet.panels.len()];
+    order[0] = 0;
+    let mut queue = VecDeque::from([0]);
+    let mut next = 1;
+    let mut tree = vec![false; creases.len()];
+    while let Some(k) = queue.pop_front() {
+        for (c, &(_, _, p1, p2)) in creases.iter().enumerate() {
+            let other = if p1 == k {
+                p2
+            } else if p2 == k {
+                p1
+            } else {
+                continue;
+            };
+            if order[other] == usize::MAX {
+                order[other] = next;
+                next += 1;
+                tree[c] = true;
+                queue.push_back(other);
+            }
+        }
+    }
+    if let Some(k) = order.iter().position(|&o| o == usize::MAX) {
+        return Err(format!("panel {k} shares no crease with the rest of the sheet"));
+    }
+    report.panels = sheet.panels.len();
+    report.hinges = creases.len();
+    report.loops = creases.len() + 1 - sheet.panels.len();
+
+    let name = |k: usize| if k == 0 { "hub".to_string() } else { format!("p{k}") };
+    let mut out = String::new();
+    let _ = writeln!(out, "# Generated by foldsim::generate::sheet; edit freely.\ntitle = {:?}\n", p.title);
+    let _ = writeln!(
+        out,
+        "[run]\nduration = {:?}\noutput_step = {:?}\nintegrator = \"dop853\"\nrtol = {:e}\natol = {:e}\n",
+        p.duration, p.output_step, p.tolerance, p.tolerance
+    );
+    for (k, vertices) in local.iter().enumerate() {
+        let polygon: Vec<String> = vertices.iter().map(|v| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z)).collect();
+        let _ = writeln!(out, "[[body]]\nname = \"{}\"", name(k));
+        if k == 0 {
+            let [a, b, c] = p.hub_inertia;
+            let _ = writeln!(out, "mass = {:?}\ninertia = [{a:?}, {b:?}, {c:?}]\n", p.hub_mass);
+        } else {
+            let _ = writeln!(
+                out,
+                "shape = {{ polygon = [{}], thickness = {:?} }}\ndensity = {:?}\n",
+                polygon.join(", "),
+                p.thickness,
+                p.areal_density
+            );
+        }
+    }
+    let mut initial = String::new();
+    for (c, &(a, b, p1, p2)) in creases.iter().enumerate() {
+        let (parent, child) = if order[p1] < order[p2] { (p1, p2) } else { (p2, p1) };
+        // A0 = A in the deployed design: origin at the crease's midpoint, z along it, y the
+        // parent's normal, x = y × z in its plane. Then [A0 p] is a yaw and a 90° roll, far
+        // from the 3-2-1 singularity its angles would meet with z in the plane otherwise.
+        let (cp, rp) = deployed_pose[parent];
+        let (cc, rc) = deployed_pose[child];
+        let mid = 0.5 * (dep[a] + dep[b]);
+        let z = (dep[b] - dep[a]).normalize();
+        let x = rp.column(2).cross(&z).normalize();
+        let frame = Mat3::from_columns(&[x, z.cross(&x), z]);
+        let r_a0_in_parent = rp.transpose() * (mid - cp);
+        let theta_a0_p = Euler321::from_dcm(&(frame.transpose() * rp));
+        let child_com = frame.transpose() * (cc - mid);
+        let theta_c_a = Euler321::from_dcm(&(rc.transpose() * frame));
+        let hname = format!("h{c}_{}_{}", name(parent), name(child));
+        let l = law(a, b);
+        let a0 = if tree[c] {
+            format!(
+                "{{ position = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}",
+                r_a0_in_parent.x, r_a0_in_parent.y, r_a0_in_parent.z, theta_a0_p.yaw, theta_a0_p.pitch, theta_a0_p.roll
+            )
+        } else {
+            "\"assembled\"".to_string()
+        };
+        let _ = writeln!(
+            out,
+            "[[hinge]]\nname = \"{hname}\"\nparent = \"{}\"\nchild = \"{}\"\na0 = {a0}\na = {{ child_com = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}\nlaw = {{ type = \"euler-potential\", k_f = {:e}, k_theta = [{:e}, {:e}, {:e}], c_f = {:e}, c_theta = {:e} }}\n",
+            name(parent),
+            name(child),
+            child_com.x,
+            child_com.y,
+            child_com.z,
+            theta_c_a.yaw,
+            theta_c_a.pitch,
+            theta_c_a.roll,
+            l.k_translation,
+            l.k_rotation,
+            l.k_rotation,
+            l.k_fold,
+            l.c_translation,
+            l.c_rotation
+        );
+        // The stowed state of the hinge: [A A0] and δ from the two panels' stowed poses.
+        let (sp, rps) = stowed_pose[parent];
+        let (sc, rcs) = stowed_pose[child];
+        let a0_n = rps * rp.transpose() * frame;
+        let a_n = rcs * rc.transpose() * frame;
+        let origin_a0 = sp + rps * r_a0_in_parent;
+        let origin_a = sc + rcs * (rc.transpose() * (mid - cc));
+        let theta = Euler321::from_dcm(&(a_n.transpose() * a0_n));
+        let delta = a0_n.transpose() * (origin_a - origin_a0);
+        report.folds.push((hname.clone(), theta.yaw, delta.norm().max(theta.pitch.abs()).max(theta.roll.abs())));
+        if tree[c] {
+            let _ = writeln!(
+                initial,
+                "[initial.hinge.{hname}]\nyaw = {:?}\npitch = {:?}\nroll = {:?}\ndelta = [{:?}, {:?}, {:?}]\n",
+                theta.yaw, theta.pitch, theta.roll, delta.x, delta.y, delta.z
+            );
+        }
+    }
+    // The hub's stowed pose in the scenario's N, which is the hub's deployed frame (the hub
+    // sits at N's origin, unrotated, at zero coordinates): [B N] = R_sᵀ R_0.
+    let (hub_c, hub_r) = stowed_pose[0];
+    let (hub_c0, hub_r0) = deployed_pose[0];
+    let hub_attitude = Euler321::from_dcm(&(hub_r.transpose() * hub_r0));
+    let hub_position = hub_r0.transpose() * (hub_c - hub_c0);
+    let _ = writeln!(
+        out,
+        "[initial.hub]\nposition = [{:?}, {:?}, {:?}]\nyaw = {:?}\npitch = {:?}\nroll = {:?}\nomega_rpm = [0.0, 0.0, {:?}]\n",
+        hub_position.x,
+        hub_position.y,
+        hub_position.z,
+        hub_attitude.yaw,
+        hub_attitude.pitch,
+        hub_attitude.roll,
+        p.spin_rpm
+    );
+    out.push_str(&initial);
+    Ok((out, report))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::initial_state;
+    use crate::scenario::Scenario;
+    use crate::state::BodyMotion;
+
+    fn params() -> SheetParams {
+        SheetParams {
+            title: "test sheet".into(),
+            areal_density: 2.0,
+            thickness: 0.01,
+            hub_mass: 50.0,
+            hub_inertia: [10.0, 10.0, 18.0],
+            spin_rpm: 0.0,
+            duration: 1.0,
+            output_step: 0.1,
+            tolerance: 1e-9,
+        }
+    }
+
+    const LAW: CreaseLaw =
+        CreaseLaw { k_translation: 1e5, k_rotation: 1e3, k_fold: 1.0, c_translation: 0.0, c_rotation: 0.0 };
+
+    /// A square sheet of four panels round a vertex (one loop), folded by 120° about the
+    /// y axis: the two creases on it fold, the two on the x axis stay flat, and the loop
+    /// closes in both states.
+    fn folded_square() -> Sheet {
+        let grid = |x: f64, y: f64| Vec3::new(x, y, 0.0);
+        let deployed = vec![
+            grid(0.0, 0.0),
+            grid(1.0, 0.0),
+            grid(1.0, 1.0),
+            grid(0.0, 1.0),
+            grid(-1.0, 1.0),
+            grid(-1.0, 0.0),
+            grid(-1.0, -1.0),
+            grid(0.0, -1.0),
+            grid(1.0, -1.0),
+        ];
+        // The x < 0 half turns by 120° about the y axis.
+        let turn = Euler321::new(0.0, 120f64.to_radians(), 0.0).to_dcm().transpose();
+        let stowed = deployed.iter().map(|p| if p.x < 0.0 { turn * p } else { *p }).collect();
+        let panels = vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5], vec![0, 5, 6, 7], vec![0, 7, 8, 1]];
+        Sheet { deployed, stowed, panels }
+    }
+
+    /// The scenario starts exactly in the stowed state: every panel's centroid where the
+    /// stowed nodes put it, the loop hinge closed there (δ = 0, folded 0° or ±120° about its
+    /// z axis), and the deployed design at zero coordinates is stress-free. Tolerances are
+    /// round-off (1e-12 m, rad): both states are exact by construction.
+    #[test]
+    fn a_folded_square_starts_stowed_and_rests_deployed() {
+        let sheet = folded_square();
+        let (text, report) = sheet_scenario(&sheet, |_, _| LAW, &params()).expect("built");
+        assert_eq!((report.panels, report.hinges, report.loops), (4, 4, 1));
+        assert!(report.edge_mismatch < 1e-15 && report.panel_strain < 1e-14, "{report:?}");
+        let mut folds: Vec<f64> = report.folds.iter().map(|f| f.1.abs().to_degrees()).collect();
+        folds.sort_by(f64::total_cmp);
+        assert!(
+            folds[0] < 1e-9 && folds[1] < 1e-9 && (folds[2] - 120.0).abs() < 1e-9 && (folds[3] - 120.0).abs() < 1e-9,
+            "{folds:?}"
+        );
+        assert!(report.folds.iter().all(|f| f.2 < 1e-12), "{report:?}");
+        let s = Scenario::from_toml(&text, "sheet").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let (y, _) = initial_state(&s.model, &s.initial);
+        // Centroids against the stowed nodes' panels (the hub stays at the origin).
+        let hub_c0 = Vec3::new(0.5, 0.5, 0.0);
+        for (k, nodes) in sheet.panels.iter().enumerate() {
+            let stowed_centroid = nodes.iter().map(|&n| sheet.stowed[n]).sum::<Vec3>() / 4.0 - hub_c0;
+            let r = BodyMotion::from_state(&y, k).r_in_n;
+            assert!((r - stowed_centroid).norm() < 1e-12, "panel {k}: {r} vs {stowed_centroid}");
+        }
+        // Every hinge, the loop one included, is closed in the stowed state.
+        let refs = vec![Euler321::default(); s.model.hinges.len()];
+        for (i, h) in s.model.hinges.iter().enumerate() {
+            let k = crate::kinematics::hinge_kinematics(
+                h,
+                &BodyMotion::from_state(&y, h.parent),
+                &BodyMotion::from_state(&y, h.child),
+                &refs[i],
+            );
+            assert!(k.state.delta_in_a0.norm() < 1e-12, "{}: δ = {}", h.name, k.state.delta_in_a0);
+            assert!(k.state.theta.pitch.abs() < 1e-12 && k.state.theta.roll.abs() < 1e-12, "{}", h.name);
+        }
+        // Released, the stored fold energy opens the sheet, conserving E (law 2 undamped):
+        // to 1e-8 relative at rtol 1e-9 over 1 s, where frames off by round-off would leave
+        // the loop preloaded and a wrong one would make it ring.
+        let mut energy = Vec::new();
+        let mut folds = Vec::new();
+        let mut sink = |o: &crate::observe::Observation| -> Result<(), String> {
+            energy.push(o.energy());
+            folds.push(o.hinge_theta.iter().map(|t| t.yaw.abs()).fold(0.0, f64::max));
+            Ok(())
+        };
+        crate::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect("runs");
+        let e0 = energy[0];
+        assert!(e0 > 0.1, "the folds store energy: {e0} J");
+        let drift = energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        assert!(drift < 1e-8 * e0, "E drifts by {drift:e} J of {e0} J");
+        assert!(folds.last().unwrap() < &folds[0], "the sheet opens: {folds:?}");
+    }
+
+    #[test]
+    fn bad_sheets_are_refused() {
+        let mut s = folded_square();
+        s.panels.push(vec![0, 1, 8]);
+        s.panels.push(vec![0, 8, 1]);
+        assert!(sheet_scenario(&s, |_, _| LAW, &params()).unwrap_err().contains("panels; at most 2"));
+        let mut s = folded_square();
+        s.deployed.push(Vec3::new(5.0, 5.0, 0.0));
+        s.stowed.push(Vec3::new(5.0, 5.0, 0.0));
+        s.deployed.push(Vec3::new(6.0, 5.0, 0.0));
+        s.stowed.push(Vec3::new(6.0, 5.0, 0.0));
+        s.deployed.push(Vec3::new(6.0, 6.0, 0.0));
+        s.stowed.push(Vec3::new(6.0, 6.0, 0.0));
+        s.panels.push(vec![9, 10, 11]);
+        assert!(sheet_scenario(&s, |_, _| LAW, &params()).unwrap_err().contains("panel 4 shares no crease"));
+    }
+}

@@ -136,6 +136,10 @@ pub struct InitialConditions {
     /// Per body (model order): `θ_{i/N}` given instead of the angles of the tree hinge that
     /// places the body.
     pub body_attitudes: Vec<Option<Euler321>>,
+    /// Per hinge (model order): for a loop hinge, angles its `θ_{A/A0}` starts nearest to
+    /// (modulo whole turns of yaw and roll): they choose the branch where the bodies alone
+    /// cannot, as for a fold of exactly ±180°. Empty or `None`: principal values.
+    pub loop_angles: Vec<Option<Euler321>>,
 }
 
 /// Places body `to` from the pose and twist of body `from` across hinge `h` (docs/model.md §3).
@@ -209,7 +213,11 @@ pub fn initial_state(model: &Model, ic: &InitialConditions) -> (State, Vec<Euler
         if !model.is_tree_hinge[i] {
             let dcm_n_a0 = motions[h.parent].dcm_n_b * h.dcm_parent_a0;
             let dcm_n_a = motions[h.child].dcm_n_b * h.dcm_child_a;
-            theta_refs[i] = Euler321::from_dcm(&(dcm_n_a.transpose() * dcm_n_a0));
+            let principal = Euler321::from_dcm(&(dcm_n_a.transpose() * dcm_n_a0));
+            theta_refs[i] = match ic.loop_angles.get(i).copied().flatten() {
+                Some(near) => principal.unwrapped_near(&near),
+                None => principal,
+            };
         }
     }
     (state, theta_refs)

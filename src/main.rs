@@ -51,21 +51,21 @@ enum Command {
     Generate {
         #[command(subcommand)]
         shape: Shape,
-        /// Panel mass, kg.
-        #[arg(long, default_value_t = 2.0, global = true)]
-        panel_mass: f64,
+        /// Panel mass, kg (z-fold and grid; default 2).
+        #[arg(long, global = true)]
+        panel_mass: Option<f64>,
         /// Hinge translational stiffness, N/m.
         #[arg(long, default_value_t = 1e6, global = true)]
         k_translation: f64,
-        /// Hinge stiffness of the two non-fold rotations, N·m/rad.
+        /// Hinge stiffness of the two rotations off the fold axis, N·m/rad.
         #[arg(long, default_value_t = 1e3, global = true)]
         k_bending: f64,
         /// Hinge fold stiffness, N·m/rad.
         #[arg(long, default_value_t = 1.0, global = true)]
         k_fold: f64,
-        /// Stowed fold angle (z-fold) or initial hub-hinge fold (grid), degrees.
-        #[arg(long, default_value_t = 30.0, global = true)]
-        fold_deg: f64,
+        /// Stowed fold angle (z-fold) or initial hub-hinge fold (grid), degrees (default 30).
+        #[arg(long, global = true)]
+        fold_deg: Option<f64>,
         /// Simulated time, s.
         #[arg(long, default_value_t = 10.0, global = true)]
         duration: f64,
@@ -113,6 +113,70 @@ enum Shape {
         #[arg(long)]
         cols: usize,
     },
+    /// A flasher: a flat disc of panels that wraps round a polygonal hub (docs/flasher.md),
+    /// stowed at the start and stress-free deployed. Prints what it built (diameters, counts,
+    /// loops, geometry checks, stowed folds and strain).
+    Flasher(Box<FlasherArgs>),
+}
+
+#[derive(clap::Args)]
+struct FlasherArgs {
+    /// Number of gores N (sides of the hub), ≥ 3.
+    #[arg(long)]
+    gores: usize,
+    /// Rings of panels (nodes per major fold − 1), ≥ 1.
+    #[arg(long)]
+    rings: usize,
+    /// Hub circumradius, m.
+    #[arg(long, default_value_t = 1.0)]
+    hub_radius: f64,
+    /// Panel thickness, m (mass properties and shapes; the stowed wrap is the zero-thickness one).
+    #[arg(long, default_value_t = 0.0)]
+    thickness: f64,
+    /// Mass per unit area of the panels, kg/m².
+    #[arg(long, default_value_t = 1.0)]
+    areal_density: f64,
+    /// Hub mass, kg.
+    #[arg(long, default_value_t = 100.0)]
+    hub_mass: f64,
+    /// Hub principal inertia about its centroid (x, y in its plane, z its axis), kg·m²,
+    /// comma-separated. Default: a uniform disc of the hub's radius and mass.
+    #[arg(long, value_delimiter = ',', num_args = 3)]
+    hub_inertia: Option<Vec<f64>>,
+    /// Panel model: quads (rigid, flat in both states), ring-quads (one ring each, strained
+    /// when stowed) or triangles (a bending hinge on each quad's diagonal).
+    #[arg(long, default_value = "triangles", value_parser = ["triangles", "quads", "ring-quads"])]
+    panels: String,
+    /// Fold damping of the creases, N·m·s/rad.
+    #[arg(long, default_value_t = 0.0)]
+    c_fold: f64,
+    /// Bending stiffness of the diagonal hinges (triangle model), N·m/rad.
+    #[arg(long, default_value_t = 1e3)]
+    k_panel_bending: f64,
+    /// Bending damping of the diagonal hinges (triangle model), N·m·s/rad.
+    #[arg(long, default_value_t = 0.0)]
+    c_panel_bending: f64,
+    /// Translational damping of every hinge, N·s/m.
+    #[arg(long, default_value_t = 0.0)]
+    c_translation: f64,
+    /// Damping of every hinge's two rotations off its fold axis, N·m·s/rad.
+    #[arg(long, default_value_t = 0.0)]
+    c_rotation: f64,
+    /// Initial hub spin about its axis, rev/min.
+    #[arg(long, default_value_t = 0.0)]
+    spin_rpm: f64,
+    /// Hold the stowed state until this time, s (run.release_at).
+    #[arg(long)]
+    release_at: Option<f64>,
+    /// Output step, s (default: duration / 1000).
+    #[arg(long)]
+    output_step: Option<f64>,
+    /// Integrator: dop853 or sdirk4 (stiff hinges on many panels).
+    #[arg(long, default_value = "dop853", value_parser = ["dop853", "sdirk4"])]
+    integrator: String,
+    /// Print every hinge's stowed fold angle, not only the distinct ones.
+    #[arg(long)]
+    all_folds: bool,
 }
 
 fn main() -> ExitCode {
@@ -132,17 +196,26 @@ fn main() -> ExitCode {
             tolerance,
             output,
         } => {
-            let p = foldsim::generate::Params {
-                panel_mass,
-                k_translation,
-                k_bending,
-                k_fold,
-                fold_deg,
-                duration,
-                tolerance,
-                ..Default::default()
-            };
-            generate(shape, &p, output)
+            if let Shape::Flasher(args) = shape {
+                if panel_mass.is_some() || fold_deg.is_some() {
+                    Err("--panel-mass and --fold-deg do not apply to a flasher: its panels' masses follow from --areal-density and their shapes, its folds from the geometry".to_string())
+                } else {
+                    let run = foldsim::generate::RunText { duration, tolerance, ..Default::default() };
+                    generate_flasher(&args, k_translation, k_bending, k_fold, run, output)
+                }
+            } else {
+                let p = foldsim::generate::Params {
+                    panel_mass: panel_mass.unwrap_or(2.0),
+                    k_translation,
+                    k_bending,
+                    k_fold,
+                    fold_deg: fold_deg.unwrap_or(30.0),
+                    duration,
+                    tolerance,
+                    ..Default::default()
+                };
+                generate(shape, &p, output)
+            }
         }
         #[cfg(feature = "plot")]
         Command::Plot { csv, columns, degrees, title, output } => {
@@ -165,12 +238,17 @@ fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>
         Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 && rows.saturating_mul(cols) <= max => {
             foldsim::generate::grid(rows, cols, p)
         }
+        Shape::Flasher(_) => unreachable!("flashers are written by generate_flasher"),
         _ => {
             return Err(format!(
                 "a z-fold needs 1 ≤ --panels ≤ {max}, a grid --rows ≥ 2 and --cols ≥ 2 with rows × cols ≤ {max}"
             ));
         }
     };
+    write_scenario(&text, output)
+}
+
+fn write_scenario(text: &str, output: Option<PathBuf>) -> Result<(), String> {
     match output {
         None => {
             print!("{text}");
@@ -178,6 +256,96 @@ fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>
         }
         Some(output) => std::fs::write(&output, text).map_err(|e| format!("cannot write {}: {e}", output.display())),
     }
+}
+
+/// Writes a flasher's scenario (to `output`, or standard output) and prints its report (to
+/// standard output, or standard error when the scenario goes there); the report also heads
+/// the scenario as comments.
+fn generate_flasher(
+    a: &FlasherArgs,
+    k_translation: f64,
+    k_rotation: f64,
+    k_fold: f64,
+    mut run: foldsim::generate::RunText,
+    output: Option<PathBuf>,
+) -> Result<(), String> {
+    use foldsim::generate::flasher::{FlasherLaws, FlasherShape, PanelModel, flasher_scenario};
+    use foldsim::generate::sheet::SheetParams;
+    let model = match a.panels.as_str() {
+        "ring-quads" => PanelModel::RingQuads,
+        "triangles" => PanelModel::Triangles,
+        _ => PanelModel::Quads,
+    };
+    let positive = |v: f64, what: &str, unit: &str| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{what} must be a positive number in {unit}; got {v}"))
+        }
+    };
+    let at_least_zero = |v: f64, what: &str, unit: &str| {
+        if v.is_finite() && v >= 0.0 { Ok(v) } else { Err(format!("{what} must be a number ≥ 0 in {unit}; got {v}")) }
+    };
+    positive(a.areal_density, "--areal-density", "kg/m²")?;
+    positive(a.hub_mass, "--hub-mass", "kg")?;
+    positive(run.duration, "--duration", "s")?;
+    at_least_zero(a.thickness, "--thickness", "m")?;
+    for (v, what, unit) in [
+        (a.c_fold, "--c-fold", "N·m·s/rad"),
+        (a.k_panel_bending, "--k-panel-bending", "N·m/rad"),
+        (a.c_panel_bending, "--c-panel-bending", "N·m·s/rad"),
+        (a.c_translation, "--c-translation", "N·s/m"),
+        (a.c_rotation, "--c-rotation", "N·m·s/rad"),
+        (k_translation, "--k-translation", "N/m"),
+        (k_rotation, "--k-bending", "N·m/rad"),
+        (k_fold, "--k-fold", "N·m/rad"),
+    ] {
+        at_least_zero(v, what, unit)?;
+    }
+    let r = a.hub_radius;
+    let hub_inertia = match &a.hub_inertia {
+        Some(v) => {
+            for (i, &x) in v.iter().enumerate() {
+                positive(x, &format!("--hub-inertia component {}", i + 1), "kg·m²")?;
+            }
+            [v[0], v[1], v[2]]
+        }
+        None => [a.hub_mass * r * r / 4.0, a.hub_mass * r * r / 4.0, a.hub_mass * r * r / 2.0],
+    };
+    run.output_step = a.output_step.unwrap_or(run.duration / 1000.0);
+    positive(run.output_step, "--output-step", "s")?;
+    run.release_at = a.release_at;
+    run.integrator = if a.integrator == "sdirk4" { "sdirk4" } else { "dop853" };
+    let shape = FlasherShape { gores: a.gores, rings: a.rings, hub_radius: r, model };
+    let laws = FlasherLaws {
+        k_fold,
+        c_fold: a.c_fold,
+        k_bending: a.k_panel_bending,
+        c_bending: a.c_panel_bending,
+        k_translation,
+        c_translation: a.c_translation,
+        k_rotation,
+        c_rotation: a.c_rotation,
+    };
+    let params = SheetParams {
+        title: format!("flasher, {} gores, {} rings, {}", a.gores, a.rings, model.name()),
+        areal_density: a.areal_density,
+        thickness: a.thickness,
+        hub_mass: a.hub_mass,
+        hub_inertia,
+        spin_rpm: a.spin_rpm,
+        run,
+    };
+    let (text, report) = flasher_scenario(&shape, &laws, &params)?;
+    let summary = report.text(a.all_folds);
+    let commented: String = report.text(false).lines().map(|l| format!("# {l}\n")).collect();
+    let text = format!("{commented}{text}");
+    if output.is_some() {
+        print!("{summary}");
+    } else {
+        eprint!("{summary}");
+    }
+    write_scenario(&text, output)
 }
 
 /// Output estimated above this many bytes is refused unless `--large-output` is given.

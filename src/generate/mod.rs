@@ -4,19 +4,22 @@
 //! - [`zfold()`]: a z-folded chain of N panels off the hub, stowed with alternating folds.
 //! - [`sheet::sheet_scenario`]: any folded sheet from its nodes in the deployed and stowed
 //!   states and its panels (the flasher's builder).
+//! - [`flasher::flasher_scenario`]: a flasher (a disc wrapped round a polygonal hub) from its
+//!   gores and rings, through the sheet builder.
 //! - [`grid()`]: an R × C grid of panels, each hinged to its neighbours along both grid
 //!   directions, the corner panel to the hub: (R−1)(C−1) hinges close loops.
 //!
 //! Every hinge uses law 2 (Euler potential) about its fold axis (A's z axis): stiff in the
 //! five other directions, soft in the fold, as real hinges are.
 
+pub mod flasher;
 pub mod grid;
 pub mod params;
 pub mod sheet;
 pub mod zfold;
 
 pub use grid::grid;
-pub use params::{MAX_PANELS, Params};
+pub use params::{MAX_PANELS, Params, RunText};
 pub use zfold::zfold;
 
 #[cfg(test)]

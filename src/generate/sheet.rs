@@ -3,8 +3,9 @@
 //! two panels share). Whatever pattern the nodes come from (a flasher, a Miura sheet), the
 //! scenario is built the same way:
 //!
-//! - every panel is a body whose frame has its origin at the panel's centroid, its x axis along
-//!   the panel's first edge and its z axis along the panel's normal, in the deployed state; its
+//! - every panel is a body whose frame has its origin at the panel's centroid, its z axis along
+//!   the panel's normal and its x axis in its plane, away from every edge (so no crease is
+//!   along it; the hub keeps the sheet's axes when it lies in the xy plane); its
 //!   shape is the polygon (with the sheet's thickness) and its mass follows from the areal
 //!   density; panel 0 is the hub, with the mass and inertia given;
 //! - every crease is a hinge whose A0 and A frames coincide in the deployed state (so the
@@ -16,9 +17,11 @@
 //!   its stowed ones (least squares; exact when the panel is rigid in the pattern), and how far
 //!   a node is off it is reported: panels that must bend to stow carry strain.
 
+use super::params::RunText;
 use crate::math::{Euler321, Mat3, Vec3};
 use crate::model::Shape;
 use std::collections::{BTreeMap, VecDeque};
+use std::f64::consts::PI;
 use std::fmt::Write;
 
 /// A sheet: node positions in both states and its panels.
@@ -30,6 +33,46 @@ pub struct Sheet {
     pub stowed: Vec<Vec3>,
     /// Panels: the nodes round each, in order; panel 0 is the hub.
     pub panels: Vec<Vec<usize>>,
+    /// Which way creases fold, keyed by (lower node, higher node). Needed where a crease is
+    /// folded flat (±180°) when stowed, which the two states alone cannot tell apart; where
+    /// given for other creases it is checked.
+    pub senses: BTreeMap<(usize, usize), Sense>,
+}
+
+/// Which way a crease folds, seen from the sheet's top (the side its deployed panels' normals
+/// point to).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sense {
+    /// The top sides turn away from each other.
+    Mountain,
+    /// The top sides turn towards each other.
+    Valley,
+}
+
+/// How close to a half turn a stowed fold is taken as folded flat, rad: its sign is then the
+/// crease's sense, not round-off.
+const FLAT_FOLD: f64 = 1e-6;
+
+/// A hinge's stowed state: its fold and how far it is off its fold axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HingeStrain {
+    /// The hinge's name.
+    pub hinge: String,
+    /// Stowed fold angle, the yaw of `[A A0]`, rad.
+    pub fold: f64,
+    /// Stowed δ, A0 components, m.
+    pub delta: Vec3,
+    /// Stowed pitch and roll of `[A A0]` (rotations off the fold axis), rad.
+    pub pitch: f64,
+    /// See `pitch`.
+    pub roll: f64,
+}
+
+impl HingeStrain {
+    /// The largest of |δ| (m), |pitch| and |roll| (rad).
+    pub fn off_axis(&self) -> f64 {
+        self.delta.norm().max(self.pitch.abs()).max(self.roll.abs())
+    }
 }
 
 /// The response of one kind of crease: an `euler-potential` law, the fold about A's z axis.
@@ -41,9 +84,11 @@ pub struct CreaseLaw {
     pub k_rotation: f64,
     /// Fold stiffness, N·m/rad (rest at the deployed design).
     pub k_fold: f64,
+    /// Fold damping, N·m·s/rad.
+    pub c_fold: f64,
     /// Damping of the translations, N·s/m.
     pub c_translation: f64,
-    /// Damping of the rotations, N·m·s/rad.
+    /// Damping of the two rotations that are not the fold, N·m·s/rad.
     pub c_rotation: f64,
 }
 
@@ -63,12 +108,8 @@ pub struct SheetParams {
     pub hub_inertia: [f64; 3],
     /// Initial hub spin about its z axis, rev/min.
     pub spin_rpm: f64,
-    /// Simulated time, s; output step, s; relative and absolute tolerance.
-    pub duration: f64,
-    /// Output step, s.
-    pub output_step: f64,
-    /// Tolerance (rtol = atol).
-    pub tolerance: f64,
+    /// The `[run]` table.
+    pub run: RunText,
 }
 
 /// What the builder found.
@@ -85,9 +126,8 @@ pub struct SheetReport {
     /// The largest distance of a stowed node from its panel's rigid stowed pose, m: zero for
     /// panels that stow without bending.
     pub panel_strain: f64,
-    /// Per hinge, its stowed fold angle (yaw of `[A A0]`), rad, and its largest off-fold
-    /// deflection (|δ| in m, or pitch and roll in rad).
-    pub folds: Vec<(String, f64, f64)>,
+    /// Per hinge, its stowed fold and strain.
+    pub strains: Vec<HingeStrain>,
 }
 
 /// A panel's body frame in one state: `(centroid, [N body])`.
@@ -103,6 +143,24 @@ fn fit(a: &[Vec3], b: &[Vec3]) -> (Mat3, Vec3) {
     let d = (u * vt).determinant().signum();
     let r = u * Mat3::from_diagonal(&Vec3::new(1.0, 1.0, d)) * vt;
     (r, cb - r * ca)
+}
+
+/// A panel's body x axis: of the directions in its plane at 5° steps from its first edge, the
+/// one furthest from every edge. A crease along the child's x axis would put `θ_{c/A}` at
+/// pitch ±90°, where 3-2-1 angles cannot be recovered from the frame (docs/model.md §7).
+fn body_x(polygon: &[Vec3], normal: &Vec3) -> Vec3 {
+    let e1 = (polygon[1] - polygon[0]).normalize();
+    let e2 = normal.cross(&e1);
+    let edges: Vec<Vec3> =
+        (0..polygon.len()).map(|i| (polygon[(i + 1) % polygon.len()] - polygon[i]).normalize()).collect();
+    let worst = |u: &Vec3| edges.iter().map(|e| e.dot(u).abs()).fold(0.0, f64::max);
+    (0..36)
+        .map(|k| {
+            let phi = (5.0 * k as f64).to_radians();
+            phi.cos() * e1 + phi.sin() * e2
+        })
+        .min_by(|a, b| worst(a).total_cmp(&worst(b)))
+        .expect("36 candidates")
 }
 
 /// Builds the scenario text of `sheet`, with `law(a, b)` the law of the crease between nodes
@@ -137,9 +195,13 @@ pub fn sheet_scenario(
             .map(|i| (world[i] - world[0]).cross(&(world[(i + 1) % world.len()] - world[0])))
             .sum::<Vec3>()
             .normalize();
-        let u = (world[1] - world[0]).normalize();
-        let v = normal.cross(&u);
-        let frame = Mat3::from_columns(&[u, v, normal]);
+        let frame = if k == 0 && (normal - Vec3::z()).norm() < 1e-12 {
+            // The hub keeps the sheet's axes, so N is the sheet's frame.
+            Mat3::identity()
+        } else {
+            let u = body_x(&world, &normal);
+            Mat3::from_columns(&[u, normal.cross(&u), normal])
+        };
         local.push(world.iter().map(|x| frame.transpose() * (x - centroid)).collect());
         let stowed: Vec<Vec3> = nodes.iter().map(|&n| sto[n]).collect();
         let (r, t) = fit(&world, &stowed);
@@ -204,7 +266,7 @@ pub fn sheet_scenario(
 
     let name = |k: usize| if k == 0 { "hub".to_string() } else { format!("p{k}") };
     let mut out = String::new();
-    super::params::title_and_run(&mut out, &p.title, p.duration, p.output_step, p.tolerance);
+    super::params::title_and_run(&mut out, &p.title, &p.run);
     for (k, vertices) in local.iter().enumerate() {
         let polygon: Vec<String> = vertices.iter().map(|v| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z)).collect();
         let _ = writeln!(out, "[[body]]\nname = \"{}\"", name(k));
@@ -249,7 +311,7 @@ pub fn sheet_scenario(
         };
         let _ = writeln!(
             out,
-            "[[hinge]]\nname = \"{hname}\"\nparent = \"{}\"\nchild = \"{}\"\na0 = {a0}\na = {{ child_com = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}\nlaw = {{ type = \"euler-potential\", k_f = {:e}, k_theta = [{:e}, {:e}, {:e}], c_f = {:e}, c_theta = {:e} }}\n",
+            "[[hinge]]\nname = \"{hname}\"\nparent = \"{}\"\nchild = \"{}\"\na0 = {a0}\na = {{ child_com = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}\nlaw = {{ type = \"euler-potential\", k_f = {:e}, k_theta = [{:e}, {:e}, {:e}], c_f = {:e}, c_theta = [{:e}, {:e}, {:e}] }}\n",
             name(parent),
             name(child),
             child_com.x,
@@ -263,7 +325,9 @@ pub fn sheet_scenario(
             l.k_rotation,
             l.k_fold,
             l.c_translation,
-            l.c_rotation
+            l.c_rotation,
+            l.c_rotation,
+            l.c_fold
         );
         // The stowed state of the hinge: [A A0] and δ from the two panels' stowed poses.
         let (sp, rps) = stowed_pose[parent];
@@ -272,9 +336,35 @@ pub fn sheet_scenario(
         let a_n = rcs * rc.transpose() * frame;
         let origin_a0 = sp + rps * r_a0_in_parent;
         let origin_a = sc + rcs * (rc.transpose() * (mid - cc));
-        let theta = Euler321::from_dcm(&(a_n.transpose() * a0_n));
+        let mut theta = Euler321::from_dcm(&(a_n.transpose() * a0_n));
         let delta = a0_n.transpose() * (origin_a - origin_a0);
-        report.folds.push((hname.clone(), theta.yaw, delta.norm().max(theta.pitch.abs()).max(theta.roll.abs())));
+        if let Some(&sense) = sheet.senses.get(&(a, b)) {
+            // Valley: the child turns towards the parent's top, A0's y axis (docs/flasher.md).
+            let side = frame.column(0).dot(&(cc - mid)).signum();
+            let want = if sense == Sense::Valley { side } else { -side };
+            if theta.yaw.signum() != want && theta.yaw.abs() > PI - FLAT_FOLD {
+                theta.yaw += 2.0 * PI * want;
+            } else if theta.yaw.signum() != want && theta.yaw.abs() > FLAT_FOLD {
+                return Err(format!(
+                    "the crease from node {a} to node {b} is a {sense:?} but the stowed state folds it the other way, by {:.6}°",
+                    theta.yaw.to_degrees()
+                ));
+            }
+        }
+        report.strains.push(HingeStrain {
+            hinge: hname.clone(),
+            fold: theta.yaw,
+            delta,
+            pitch: theta.pitch,
+            roll: theta.roll,
+        });
+        if !tree[c] && theta.yaw.abs() > PI - FLAT_FOLD {
+            let _ = writeln!(
+                initial,
+                "[initial.loop.{hname}]\nyaw = {:?}\npitch = {:?}\nroll = {:?}\n",
+                theta.yaw, theta.pitch, theta.roll
+            );
+        }
         if tree[c] {
             let _ = writeln!(
                 initial,
@@ -319,14 +409,18 @@ mod tests {
             hub_mass: 50.0,
             hub_inertia: [10.0, 10.0, 18.0],
             spin_rpm: 0.0,
-            duration: 1.0,
-            output_step: 0.1,
-            tolerance: 1e-9,
+            run: RunText { duration: 1.0, output_step: 0.1, tolerance: 1e-9, ..Default::default() },
         }
     }
 
-    const LAW: CreaseLaw =
-        CreaseLaw { k_translation: 1e5, k_rotation: 1e3, k_fold: 1.0, c_translation: 0.0, c_rotation: 0.0 };
+    const LAW: CreaseLaw = CreaseLaw {
+        k_translation: 1e5,
+        k_rotation: 1e3,
+        k_fold: 1.0,
+        c_fold: 0.0,
+        c_translation: 0.0,
+        c_rotation: 0.0,
+    };
 
     /// A square sheet of four panels round a vertex (one loop), folded by 120° about the
     /// y axis: the two creases on it fold, the two on the x axis stay flat, and the loop
@@ -348,7 +442,7 @@ mod tests {
         let turn = Euler321::new(0.0, 120f64.to_radians(), 0.0).to_dcm().transpose();
         let stowed = deployed.iter().map(|p| if p.x < 0.0 { turn * p } else { *p }).collect();
         let panels = vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5], vec![0, 5, 6, 7], vec![0, 7, 8, 1]];
-        Sheet { deployed, stowed, panels }
+        Sheet { deployed, stowed, panels, senses: BTreeMap::new() }
     }
 
     /// The scenario starts exactly in the stowed state: every panel's centroid where the
@@ -361,13 +455,13 @@ mod tests {
         let (text, report) = sheet_scenario(&sheet, |_, _| LAW, &params()).expect("built");
         assert_eq!((report.panels, report.hinges, report.loops), (4, 4, 1));
         assert!(report.edge_mismatch < 1e-15 && report.panel_strain < 1e-14, "{report:?}");
-        let mut folds: Vec<f64> = report.folds.iter().map(|f| f.1.abs().to_degrees()).collect();
+        let mut folds: Vec<f64> = report.strains.iter().map(|f| f.fold.abs().to_degrees()).collect();
         folds.sort_by(f64::total_cmp);
         assert!(
             folds[0] < 1e-9 && folds[1] < 1e-9 && (folds[2] - 120.0).abs() < 1e-9 && (folds[3] - 120.0).abs() < 1e-9,
             "{folds:?}"
         );
-        assert!(report.folds.iter().all(|f| f.2 < 1e-12), "{report:?}");
+        assert!(report.strains.iter().all(|f| f.off_axis() < 1e-12), "{report:?}");
         let s = Scenario::from_toml(&text, "sheet").unwrap_or_else(|e| panic!("{e}\n{text}"));
         let (y, _) = initial_state(&s.model, &s.initial);
         // Centroids against the stowed nodes' panels (the hub stays at the origin).

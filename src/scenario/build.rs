@@ -232,9 +232,12 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     }
 
     // Initial conditions.
+    /// How closely `[initial.loop.NAME]` angles must match the bodies' poses, rad.
+    const LOOP_ANGLE_AGREEMENT: f64 = 1e-6;
     let mut ic = InitialConditions {
         hinges: vec![None; specs.len()],
         body_attitudes: vec![None; bodies.len()],
+        loop_angles: vec![None; specs.len()],
         ..Default::default()
     };
     if let Some(hub) = &raw.initial.hub {
@@ -295,7 +298,67 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         attitude_keys.insert(i, key.span());
     }
 
+    let mut loop_keys = Vec::new();
+    for (key, v) in &raw.initial.loop_hinge {
+        let Some(&i) = hinge_index.get(key.get_ref()) else {
+            return Err(ctx.span(
+                key,
+                format!(
+                    "initial.loop.{}: no hinge of that name; hinges are: {}",
+                    key.get_ref(),
+                    hinge_names(&raw.hinges)
+                ),
+            ));
+        };
+        let r = v.get_ref();
+        let near = angles(r.yaw, r.yaw_deg, r.pitch, r.pitch_deg, r.roll, r.roll_deg)
+            .map_err(|m| ctx.span(v, format!("initial.loop.{}: {m}", key.get_ref())))?
+            .unwrap_or_default();
+        if ic.hinges[i].is_some() {
+            return Err(ctx.span(
+                key,
+                format!(
+                    "initial.loop.{0}: hinge '{0}' also has [initial.hinge.{0}]; give a loop hinge's angles here, a tree hinge's there",
+                    key.get_ref()
+                ),
+            ));
+        }
+        ic.loop_angles[i] = Some(near);
+        loop_keys.push((i, v.span()));
+    }
+
     let model = Model::new(bodies, specs, &preferred).map_err(|e| model_error(ctx, &raw, e))?;
+
+    // A loop hinge's angles follow from the bodies; the ones given only pick the branch, so
+    // they must agree with the bodies (modulo whole turns) to 1e-6 rad.
+    if !loop_keys.is_empty() {
+        let (_, refs) = crate::kinematics::initial_state(&model, &ic);
+        for (i, span) in loop_keys {
+            let name = &model.hinges[i].name;
+            if model.is_tree_hinge[i] {
+                return Err(ctx.at(
+                    Some(span),
+                    format!(
+                        "initial.loop.{name}: hinge '{name}' is a tree hinge (its angles place a body); give its angles in [initial.hinge.{name}]"
+                    ),
+                ));
+            }
+            let (given, start) = (ic.loop_angles[i].unwrap_or_default(), refs[i]);
+            let off = (given.yaw - start.yaw)
+                .abs()
+                .max((given.pitch - start.pitch).abs())
+                .max((given.roll - start.roll).abs());
+            if off.is_nan() || off > LOOP_ANGLE_AGREEMENT {
+                return Err(ctx.at(
+                    Some(span),
+                    format!(
+                        "initial.loop.{name}: the bodies put this loop hinge at yaw {:.9}, pitch {:.9}, roll {:.9} rad; the angles given ({:.9}, {:.9}, {:.9}) must agree to {LOOP_ANGLE_AGREEMENT:e} rad (they only choose between ±180° and add whole turns)",
+                        start.yaw, start.pitch, start.roll, given.yaw, given.pitch, given.roll
+                    ),
+                ));
+            }
+        }
+    }
 
     // A body attitude replaces the angles of the tree hinge that places that body.
     for e in &model.tree {

@@ -198,6 +198,8 @@ pub(super) struct RawInitial {
     pub(super) hinge: BTreeMap<Spanned<String>, Spanned<RawHingeInitial>>,
     #[serde(default)]
     pub(super) body: BTreeMap<Spanned<String>, Spanned<RawAngles>>,
+    #[serde(rename = "loop", default)]
+    pub(super) loop_hinge: BTreeMap<Spanned<String>, Spanned<RawAngles>>,
 }
 
 #[derive(Deserialize, Default)]

@@ -1,0 +1,600 @@
+//! The flasher: a flat disc that wraps round a polygonal hub (Guest & Pellegrino, "Inextensional
+//! wrapping of flat membranes", 1992; Zirbel et al., J. Mech. Des. 135:111005, 2013), built
+//! stowed first and unfolded into the plane (docs/flasher.md has the derivation).
+//!
+//! With `N` gores (the hub a regular N-gon of circumradius `A`, side `s = 2A sin(β/2)`,
+//! `β = 2π/N`) and `n` nodes per major fold (`n − 1` rings), every hub corner `H_k` starts two
+//! major folds: a valley line `V_k,i` and a mountain line `M_k,i` (`i = 1…n`, both starting at
+//! `H_k`). Stowed with zero thickness, the sheet lies on the side walls of the prism over the
+//! hub: `V_k,i` at the foot of prism edge `k + i − 1`, `M_k,i` on the same edge at height
+//! `(i − 1) Δz`. The flatness of the sheet fixes `Δz`: the sector angles round every node must
+//! sum to 2π. Round a hub corner that gives `Δz = s tan(β/2)`; round `M_k,i` it asks
+//! `z_{i+1} − z_i = z_i − z_{i−1}` (constant steps); round `V_k,i` it holds for any heights.
+//! Unfolding the triangles into the plane, keeping their stowed edge lengths, gives the
+//! deployed disc; that it closes up N-fold symmetric, flat and without overlap is checked and
+//! reported, not assumed.
+//!
+//! Per gore the triangles are the strip between `V_k` and `M_k` (`H_k V_k,2 M_k,2`, then
+//! `V_k,i V_k,i+1 M_k,i+1` and `V_k,i M_k,i+1 M_k,i`) and the region between `M_k` and `V_k+1`
+//! (`H_k H_k+1 M_k,2`, then `V_k+1,i−1 V_k+1,i M_k,i` and `M_k,i V_k+1,i M_k,i+1`):
+//! `N (4n − 5)` triangles.
+
+use super::sheet::{CreaseLaw, Sense, Sheet, SheetParams, SheetReport, sheet_scenario};
+use crate::math::Vec3;
+use std::collections::{BTreeMap, VecDeque};
+use std::f64::consts::PI;
+use std::fmt::Write;
+
+/// How the flasher's sheet is divided into rigid bodies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PanelModel {
+    /// Rigid quadrilaterals, each two triangles that lie in one plane in both the stowed and
+    /// the deployed state (joined across the crease that is flat in both): no stowed strain.
+    Quads,
+    /// Rigid quadrilaterals of one ring each (`M_k,i M_k,i+1 V_k+1,i+1 V_k+1,i`): these are
+    /// bent across a prism edge when stowed, so the stowed state carries hinge strain, which
+    /// the report gives.
+    RingQuads,
+    /// Triangles, with a bending hinge on each diagonal of the [`PanelModel::Quads`] panels
+    /// (the bar-and-hinge idealisation): exact in both states.
+    Triangles,
+}
+
+impl PanelModel {
+    /// The model's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Quads => "quads",
+            Self::RingQuads => "ring-quads",
+            Self::Triangles => "triangles",
+        }
+    }
+}
+
+/// What kind of hinge a crease gets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CreaseKind {
+    /// A fold of the pattern (major folds, ring creases, the hub's edges).
+    Fold,
+    /// A panel's diagonal (triangle model): the hinge stands for the panel's bending.
+    Diagonal,
+}
+
+/// The flasher's shape parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlasherShape {
+    /// Number of gores N (hub sides), ≥ 3.
+    pub gores: usize,
+    /// Rings of panels, n − 1 ≥ 1 (n nodes per major fold).
+    pub rings: usize,
+    /// Hub circumradius A, m.
+    pub hub_radius: f64,
+    /// How the sheet is divided into bodies.
+    pub model: PanelModel,
+}
+
+/// The geometric checks of a built flasher (lengths in m, relative where said).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlasherGeometry {
+    /// Largest distance of a node from the hub's axis in the deployed disc, times 2, m.
+    pub deployed_diameter: f64,
+    /// Diameter of the stowed package (the prism's circumscribed circle), m.
+    pub stowed_diameter: f64,
+    /// Height of the stowed package, m.
+    pub stowed_height: f64,
+    /// Largest mismatch where the unfolding reaches a node twice (closing a loop), m.
+    pub closure: f64,
+    /// Largest relative difference of a triangle edge's length between the two states.
+    pub edge_mismatch: f64,
+    /// Largest distance of a deployed node from the hub's plane, m.
+    pub flatness: f64,
+    /// Largest distance between a deployed node rotated by 2π/N and its counterpart in the
+    /// next gore, m.
+    pub symmetry: f64,
+    /// Sum of the triangles' areas over the area between the rim and the hub, minus 1: zero
+    /// when the unfolded triangles tile the disc without overlap.
+    pub overlap: f64,
+    /// Largest distance of a stowed node from the prism's side (zero thickness), m.
+    pub off_prism: f64,
+}
+
+/// A flasher: its sheet, the kind of every crease and its geometry checks.
+#[derive(Clone, Debug)]
+pub struct Flasher {
+    /// Nodes in both states and the panels (panel 0 the hub).
+    pub sheet: Sheet,
+    /// Kind of every edge two panels share, keyed by (lower node, higher node).
+    pub kinds: BTreeMap<(usize, usize), CreaseKind>,
+    /// The checks.
+    pub geometry: FlasherGeometry,
+}
+
+/// Node numbering: hub corners first, then per gore `V_k,i`, `M_k,i` for i = 2…n.
+struct Nodes {
+    gores: usize,
+    n: usize,
+}
+
+impl Nodes {
+    fn hub(&self, k: usize) -> usize {
+        k % self.gores
+    }
+    fn v(&self, k: usize, i: usize) -> usize {
+        if i == 1 { self.hub(k) } else { self.gores + (k % self.gores) * 2 * (self.n - 1) + 2 * (i - 2) }
+    }
+    fn m(&self, k: usize, i: usize) -> usize {
+        if i == 1 { self.hub(k) } else { self.v(k, i) + 1 }
+    }
+    fn count(&self) -> usize {
+        self.gores * (1 + 2 * (self.n - 1))
+    }
+}
+
+/// A triangle of the sheet and the panel it belongs to (its index among the panels).
+type Triangle = [usize; 3];
+
+/// The largest number of gores and of rings accepted: beyond these the hub's sides or the
+/// panels' aspect make the geometry meaningless in double precision.
+pub const MAX_GORES: usize = 1000;
+
+/// Builds a flasher's nodes, panels and crease kinds, and checks its geometry.
+pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
+    let FlasherShape { gores, rings, hub_radius, model } = *shape;
+    if !(3..=MAX_GORES).contains(&gores) {
+        return Err(format!("a flasher needs 3 ≤ gores ≤ {MAX_GORES}; got {gores}"));
+    }
+    if rings < 1 || gores.saturating_mul(rings.saturating_mul(4)) > 4 * super::MAX_PANELS {
+        return Err(format!(
+            "a flasher needs rings ≥ 1 and gores × rings ≤ {} (about 2 panels per gore and ring); got {rings}",
+            2 * super::MAX_PANELS
+        ));
+    }
+    if !(hub_radius.is_finite() && hub_radius > 0.0) {
+        return Err(format!("the hub radius must be a positive length in m; got {hub_radius}"));
+    }
+    let n = rings + 1;
+    let nodes = Nodes { gores, n };
+    let beta = 2.0 * PI / gores as f64;
+    let side = 2.0 * hub_radius * (beta / 2.0).sin();
+    let dz = side * (beta / 2.0).tan();
+    let corner = |m: usize, z: f64| {
+        let a = (m % gores) as f64 * beta;
+        Vec3::new(hub_radius * a.cos(), hub_radius * a.sin(), z)
+    };
+    // Stowed nodes on the prism (zero thickness).
+    let mut stowed = vec![Vec3::zeros(); nodes.count()];
+    for k in 0..gores {
+        stowed[nodes.hub(k)] = corner(k, 0.0);
+        for i in 2..=n {
+            stowed[nodes.v(k, i)] = corner(k + i - 1, 0.0);
+            stowed[nodes.m(k, i)] = corner(k + i - 1, (i - 1) as f64 * dz);
+        }
+    }
+    // Triangles, gore by gore, and how they pair into the Quads model's panels.
+    let mut triangles: Vec<Triangle> = Vec::new();
+    let mut quads: Vec<Vec<usize>> = Vec::new();
+    let mut ring_quads: Vec<Vec<usize>> = Vec::new();
+    for k in 0..gores {
+        let (v, m, vn) = (|i| nodes.v(k, i), |i| nodes.m(k, i), |i| nodes.v(k + 1, i));
+        // The strip between V_k and M_k: a triangle at the hub corner, then planar quads.
+        triangles.push([v(1), v(2), m(2)]);
+        quads.push(vec![v(1), v(2), m(2)]);
+        ring_quads.push(vec![v(1), v(2), m(2)]);
+        for i in 2..n {
+            triangles.push([v(i), v(i + 1), m(i + 1)]);
+            triangles.push([v(i), m(i + 1), m(i)]);
+            quads.push(vec![v(i), v(i + 1), m(i + 1), m(i)]);
+            ring_quads.push(vec![v(i), v(i + 1), m(i + 1), m(i)]);
+        }
+        // The region between M_k and V_k+1.
+        triangles.push([m(1), vn(1), m(2)]);
+        quads.push(vec![m(1), vn(1), m(2)]);
+        ring_quads.push(vec![m(1), vn(1), vn(2), m(2)]);
+        for i in 2..=n {
+            triangles.push([vn(i - 1), vn(i), m(i)]);
+            if i < n {
+                triangles.push([m(i), vn(i), m(i + 1)]);
+                quads.push(vec![vn(i - 1), vn(i), m(i + 1), m(i)]);
+                ring_quads.push(vec![m(i), vn(i), vn(i + 1), m(i + 1)]);
+            } else {
+                quads.push(vec![vn(i - 1), vn(i), m(i)]);
+            }
+        }
+    }
+    let deployed_xy = unfold(&nodes, &stowed, &triangles)?;
+    let deployed: Vec<Vec3> = deployed_xy.0;
+    let mut geometry = FlasherGeometry { closure: deployed_xy.1, ..Default::default() };
+    check(&nodes, &stowed, &deployed, &triangles, hub_radius, dz, &mut geometry);
+
+    let hub: Vec<usize> = (0..gores).collect();
+    let body_panels = match model {
+        PanelModel::Quads => quads.clone(),
+        PanelModel::RingQuads => ring_quads,
+        PanelModel::Triangles => triangles.iter().map(|t| t.to_vec()).collect(),
+    };
+    // Every panel counter-clockwise seen from the deployed sheet's top (+z).
+    let mut panels = vec![hub];
+    for p in body_panels {
+        let area = signed_area(&p.iter().map(|&i| deployed[i]).collect::<Vec<_>>());
+        panels.push(if area < 0.0 { p.into_iter().rev().collect() } else { p });
+    }
+    // Crease kinds: an edge two triangles share is a diagonal when both lie in one Quads panel.
+    let edge = |a: usize, b: usize| (a.min(b), a.max(b));
+    let mut kinds = BTreeMap::new();
+    for p in &panels {
+        for i in 0..p.len() {
+            kinds.insert(edge(p[i], p[(i + 1) % p.len()]), CreaseKind::Fold);
+        }
+    }
+    if model == PanelModel::Triangles {
+        for q in quads.iter().filter(|q| q.len() == 4) {
+            for t in &triangles {
+                let shared: Vec<usize> = t.iter().copied().filter(|x| q.contains(x)).collect();
+                if shared.len() == 3 {
+                    // The triangle's edge that is not on the quad's outline is its diagonal.
+                    for i in 0..3 {
+                        let (a, b) = (t[i], t[(i + 1) % 3]);
+                        let on_outline = (0..4).any(|j| edge(q[j], q[(j + 1) % 4]) == edge(a, b));
+                        if !on_outline {
+                            kinds.insert(edge(a, b), CreaseKind::Diagonal);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Senses of the major folds, folded flat (180°) when stowed: mountain along M, valley
+    // along V, seen from the deployed top.
+    let mut senses = BTreeMap::new();
+    for k in 0..gores {
+        for i in 1..n {
+            senses.insert(edge(nodes.m(k, i), nodes.m(k, i + 1)), Sense::Mountain);
+            senses.insert(edge(nodes.v(k, i), nodes.v(k, i + 1)), Sense::Valley);
+        }
+    }
+    Ok(Flasher { sheet: Sheet { deployed, stowed, panels, senses }, kinds, geometry })
+}
+
+/// Twice the signed area of a polygon's projection on the xy plane, m².
+fn signed_area(p: &[Vec3]) -> f64 {
+    (0..p.len()).map(|i| p[i].x * p[(i + 1) % p.len()].y - p[(i + 1) % p.len()].x * p[i].y).sum()
+}
+
+/// Unfolds the stowed triangles into the plane z = 0 from the hub (which keeps its place),
+/// breadth first, each triangle placed on its two placed nodes with its stowed edge lengths,
+/// on the far side of the edge from the triangle it was reached from. Returns the nodes and
+/// the largest mismatch where a node is reached again.
+fn unfold(nodes: &Nodes, stowed: &[Vec3], triangles: &[Triangle]) -> Result<(Vec<Vec3>, f64), String> {
+    let mut at: Vec<Option<Vec3>> = vec![None; stowed.len()];
+    for k in 0..nodes.gores {
+        at[nodes.hub(k)] = Some(stowed[nodes.hub(k)]);
+    }
+    let mut by_edge: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+    for (t, tri) in triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (tri[i], tri[(i + 1) % 3]);
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(t);
+        }
+    }
+    let mut done = vec![false; triangles.len()];
+    let mut queue = VecDeque::new();
+    let mut closure = 0.0_f64;
+    let mut put = |at: &mut Vec<Option<Vec3>>, node: usize, p: Vec3| match at[node] {
+        Some(q) => closure = closure.max((p - q).norm()),
+        None => at[node] = Some(p),
+    };
+    // Seeds: the triangles on the hub's sides, placed outside the hub.
+    for (t, tri) in triangles.iter().enumerate() {
+        let hub_side = (0..3).find(|&i| tri[i] < nodes.gores && tri[(i + 1) % 3] < nodes.gores);
+        if let Some(i) = hub_side {
+            let (a, b, c) = (tri[i], tri[(i + 1) % 3], tri[(i + 2) % 3]);
+            let p = place(&at, stowed, a, b, c, Vec3::zeros())?;
+            put(&mut at, c, p);
+            done[t] = true;
+            queue.push_back(t);
+        }
+    }
+    while let Some(t) = queue.pop_front() {
+        let tri = triangles[t];
+        for i in 0..3 {
+            let (a, b, far) = (tri[i], tri[(i + 1) % 3], tri[(i + 2) % 3]);
+            for &u in &by_edge[&(a.min(b), a.max(b))] {
+                if done[u] {
+                    continue;
+                }
+                let c = *triangles[u].iter().find(|&&x| x != a && x != b).expect("a triangle has 3 nodes");
+                let away_from = at[far].expect("placed");
+                let p = place(&at, stowed, a, b, c, away_from)?;
+                put(&mut at, c, p);
+                done[u] = true;
+                queue.push_back(u);
+            }
+        }
+    }
+    let placed: Option<Vec<Vec3>> = at.into_iter().collect();
+    let placed = placed.ok_or("the flasher's triangles do not all connect to the hub")?;
+    Ok((placed, closure))
+}
+
+/// Node `c` in the plane z = 0 at its stowed distances from the placed nodes `a` and `b`, on
+/// the side of line ab away from `away`.
+fn place(at: &[Option<Vec3>], stowed: &[Vec3], a: usize, b: usize, c: usize, away: Vec3) -> Result<Vec3, String> {
+    let (pa, pb) = (at[a].expect("placed"), at[b].expect("placed"));
+    let (ra, rb) = ((stowed[c] - stowed[a]).norm(), (stowed[c] - stowed[b]).norm());
+    let l = (pb - pa).norm();
+    let u = (pb - pa) / l;
+    let normal = Vec3::new(-u.y, u.x, 0.0);
+    let x = (ra * ra - rb * rb + l * l) / (2.0 * l);
+    let h2 = ra * ra - x * x;
+    if h2 < -1e-9 * ra * ra {
+        return Err(format!("the stowed triangle of nodes {a}, {b}, {c} is not a triangle"));
+    }
+    let h = h2.max(0.0).sqrt();
+    let h = if normal.dot(&(away - pa)) > 0.0 { -h } else { h };
+    Ok(pa + x * u + h * normal)
+}
+
+/// Fills in the checks of the deployed and stowed nodes.
+fn check(
+    nodes: &Nodes,
+    stowed: &[Vec3],
+    deployed: &[Vec3],
+    triangles: &[Triangle],
+    hub_radius: f64,
+    dz: f64,
+    g: &mut FlasherGeometry,
+) {
+    let (gores, n) = (nodes.gores, nodes.n);
+    g.deployed_diameter = 2.0 * deployed.iter().map(|p| p.xy().norm()).fold(0.0, f64::max);
+    g.stowed_diameter = 2.0 * hub_radius;
+    g.stowed_height = (n - 1) as f64 * dz;
+    g.flatness = deployed.iter().map(|p| p.z.abs()).fold(0.0, f64::max);
+    g.off_prism = stowed
+        .iter()
+        .map(|p| {
+            // Distance from the prism's side: the corners are on the circumscribed circle.
+            (p.xy().norm() - hub_radius).abs().max(if p.z < -1e-12 || p.z > g.stowed_height + 1e-12 {
+                p.z.abs()
+            } else {
+                0.0
+            })
+        })
+        .fold(0.0, f64::max);
+    for t in triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            let (ls, ld) = ((stowed[a] - stowed[b]).norm(), (deployed[a] - deployed[b]).norm());
+            g.edge_mismatch = g.edge_mismatch.max((ls - ld).abs() / ls);
+        }
+    }
+    let beta = 2.0 * PI / gores as f64;
+    let turn = nalgebra::Rotation3::from_axis_angle(&Vec3::z_axis(), beta);
+    for k in 0..gores {
+        for i in 1..=n {
+            for (here, next) in [(nodes.v(k, i), nodes.v(k + 1, i)), (nodes.m(k, i), nodes.m(k + 1, i))] {
+                g.symmetry = g.symmetry.max((turn * deployed[here] - deployed[next]).norm());
+            }
+        }
+    }
+    // Overlap: the triangles' areas against the area inside the rim (the loop of edges that
+    // only one triangle has, the hub's sides aside) less the hub's.
+    let triangles_area: f64 = triangles.iter().map(|t| 0.5 * signed_area(&t.map(|i| deployed[i])).abs()).sum();
+    let mut count: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    for t in triangles {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut next: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (&(a, b), &c) in &count {
+        if c == 1 && !(a < gores && b < gores) {
+            next.entry(a).or_default().push(b);
+            next.entry(b).or_default().push(a);
+        }
+    }
+    let mut rim = Vec::new();
+    if let Some((&start, _)) = next.iter().next() {
+        let (mut prev, mut here) = (usize::MAX, start);
+        loop {
+            rim.push(deployed[here]);
+            let Some(&to) = next[&here].iter().find(|&&x| x != prev) else { break };
+            (prev, here) = (here, to);
+            if here == start || rim.len() > next.len() {
+                break;
+            }
+        }
+    }
+    let hub_area = 0.5 * gores as f64 * hub_radius * hub_radius * beta.sin();
+    let rim_area = 0.5 * signed_area(&rim).abs();
+    g.overlap = triangles_area / (rim_area - hub_area) - 1.0;
+}
+
+/// Stiffness and damping per crease kind, SI units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlasherLaws {
+    /// Fold creases: fold stiffness (N·m/rad) and damping (N·m·s/rad).
+    pub k_fold: f64,
+    /// Fold damping, N·m·s/rad.
+    pub c_fold: f64,
+    /// Diagonals (triangle model): bending stiffness, N·m/rad.
+    pub k_bending: f64,
+    /// Diagonal bending damping, N·m·s/rad.
+    pub c_bending: f64,
+    /// Every hinge's three translations: stiffness, N/m.
+    pub k_translation: f64,
+    /// Translational damping, N·s/m.
+    pub c_translation: f64,
+    /// Every hinge's two rotations other than its fold: stiffness, N·m/rad.
+    pub k_rotation: f64,
+    /// Their damping, N·m·s/rad.
+    pub c_rotation: f64,
+}
+
+/// A flasher and how it is written as a scenario: the report the generator prints.
+#[derive(Clone, Debug)]
+pub struct FlasherReport {
+    /// The shape asked for.
+    pub shape: FlasherShape,
+    /// The geometry checks.
+    pub geometry: FlasherGeometry,
+    /// The sheet builder's report (counts, loops, strain, stowed folds).
+    pub sheet: SheetReport,
+    /// Stored strain energy of the stowed state in the hinges' stiff directions, J
+    /// (½ k δ² and ½ k θ² off the fold; zero when every panel is rigid in both states).
+    pub strain_energy: f64,
+}
+
+/// Builds the scenario text of a flasher and its report.
+pub fn flasher_scenario(
+    shape: &FlasherShape,
+    laws: &FlasherLaws,
+    p: &SheetParams,
+) -> Result<(String, FlasherReport), String> {
+    let f = flasher(shape)?;
+    let law = |a: usize, b: usize| {
+        let (k_fold, c_fold) = match f.kinds.get(&(a.min(b), a.max(b))) {
+            Some(CreaseKind::Diagonal) => (laws.k_bending, laws.c_bending),
+            _ => (laws.k_fold, laws.c_fold),
+        };
+        CreaseLaw {
+            k_translation: laws.k_translation,
+            k_rotation: laws.k_rotation,
+            k_fold,
+            c_translation: laws.c_translation,
+            c_rotation: laws.c_rotation,
+            c_fold,
+        }
+    };
+    let (text, sheet) = sheet_scenario(&f.sheet, law, p)?;
+    let strain_energy = sheet
+        .strains
+        .iter()
+        .map(|s| {
+            0.5 * laws.k_translation * s.delta.norm_squared()
+                + 0.5 * laws.k_rotation * (s.pitch.powi(2) + s.roll.powi(2))
+        })
+        .sum();
+    Ok((text, FlasherReport { shape: *shape, geometry: f.geometry, sheet, strain_energy }))
+}
+
+impl FlasherReport {
+    /// The report as text, one fact per line; with `all_folds`, every hinge's stowed fold.
+    pub fn text(&self, all_folds: bool) -> String {
+        let (g, s) = (&self.geometry, &self.sheet);
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "flasher: {} gores, {} rings, hub radius {} m, panel model '{}'",
+            self.shape.gores,
+            self.shape.rings,
+            self.shape.hub_radius,
+            self.shape.model.name()
+        );
+        let _ = writeln!(
+            out,
+            "deployed diameter {:.6} m; stowed diameter {:.6} m, height {:.6} m",
+            g.deployed_diameter, g.stowed_diameter, g.stowed_height
+        );
+        let _ = writeln!(out, "panels {} (hub included), hinges {}, independent loops {}", s.panels, s.hinges, s.loops);
+        let _ = writeln!(
+            out,
+            "checks: edge lengths agree to {:.1e} (relative), unfolding closes to {:.1e} m, deployed flat to {:.1e} m, {}-fold symmetric to {:.1e} m, overlap {:.1e}, stowed nodes on the prism to {:.1e} m",
+            g.edge_mismatch, g.closure, g.flatness, self.shape.gores, g.symmetry, g.overlap, g.off_prism
+        );
+        let worst = s.strains.iter().max_by(|a, b| a.off_axis().total_cmp(&b.off_axis()));
+        match worst {
+            Some(w) if w.off_axis() > 1e-9 => {
+                let _ = writeln!(
+                    out,
+                    "stowed strain: largest hinge deflection off its fold axis {:.3e} m / {:.3e} rad ({}), strain energy {:.6e} J; panels are off their rigid stowed pose by up to {:.3e} m",
+                    w.delta.norm(),
+                    w.pitch.abs().max(w.roll.abs()),
+                    w.hinge,
+                    self.strain_energy,
+                    s.panel_strain
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    out,
+                    "stowed strain: none (every hinge is on its fold axis to {:.1e}; strain energy {:.1e} J)",
+                    worst.map_or(0.0, |w| w.off_axis()),
+                    self.strain_energy
+                );
+            }
+        }
+        let mut folds: Vec<f64> = s.strains.iter().map(|f| f.fold.to_degrees()).collect();
+        folds.sort_by(f64::total_cmp);
+        folds.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+        let shown: Vec<String> = folds.iter().map(|f| format!("{f:.4}")).collect();
+        let _ = writeln!(out, "stowed fold angles (distinct, degrees): {}", shown.join(", "));
+        if all_folds {
+            for f in &s.strains {
+                let _ = writeln!(out, "  {} {:.6}°", f.hinge, f.fold.to_degrees());
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::RunText;
+    use crate::kinematics::{hinge_kinematics, initial_state};
+    use crate::scenario::Scenario;
+    use crate::state::BodyMotion;
+
+    pub(crate) fn params() -> SheetParams {
+        SheetParams {
+            title: "flasher".into(),
+            areal_density: 1.0,
+            thickness: 0.0,
+            hub_mass: 100.0,
+            hub_inertia: [25.0, 25.0, 50.0],
+            spin_rpm: 0.0,
+            run: RunText { duration: 1.0, output_step: 0.01, tolerance: 1e-9, ..Default::default() },
+        }
+    }
+
+    pub(crate) const LAWS: FlasherLaws = FlasherLaws {
+        k_fold: 1.0,
+        c_fold: 0.0,
+        k_bending: 1e3,
+        c_bending: 0.0,
+        k_translation: 1e6,
+        c_translation: 0.0,
+        k_rotation: 1e3,
+        c_rotation: 0.0,
+    };
+
+    /// Every hinge, the loop ones included, starts at its stowed state: δ, pitch and roll at
+    /// round-off (1e-12 m, rad) for the models exact in both states.
+    #[test]
+    fn every_hinge_starts_closed() {
+        for model in [PanelModel::Quads, PanelModel::Triangles] {
+            let shape = FlasherShape { gores: 6, rings: 3, hub_radius: 1.0, model };
+            let (text, _) = flasher_scenario(&shape, &LAWS, &params()).unwrap();
+            let s = Scenario::from_toml(&text, "flasher").unwrap_or_else(|e| panic!("{e}"));
+            let (y, refs) = initial_state(&s.model, &s.initial);
+            for (i, h) in s.model.hinges.iter().enumerate() {
+                let k = hinge_kinematics(
+                    h,
+                    &BodyMotion::from_state(&y, h.parent),
+                    &BodyMotion::from_state(&y, h.child),
+                    &refs[i],
+                );
+                let off = k.state.delta_in_a0.norm().max(k.state.theta.pitch.abs()).max(k.state.theta.roll.abs());
+                assert!(
+                    off < 1e-12,
+                    "{model:?} {} (tree {}): δ {} θ {:?}",
+                    h.name,
+                    s.model.is_tree_hinge[i],
+                    k.state.delta_in_a0,
+                    k.state.theta
+                );
+            }
+        }
+    }
+}

@@ -116,6 +116,7 @@ enum Shape {
     /// A flasher: a flat disc of panels that wraps round a polygonal hub (docs/flasher.md),
     /// stowed at the start and stress-free deployed. Prints what it built (diameters, counts,
     /// loops, geometry checks, stowed folds and strain).
+    #[command(allow_negative_numbers = true)]
     Flasher(Box<FlasherArgs>),
 }
 
@@ -338,7 +339,20 @@ fn generate_flasher(
     };
     let (text, report) = flasher_scenario(&shape, &laws, &params)?;
     let summary = report.text(a.all_folds);
-    let commented: String = report.text(false).lines().map(|l| format!("# {l}\n")).collect();
+    // The command that wrote it (without the output file), then the report, as comments.
+    let mut command: Vec<String> = vec!["foldsim".into()];
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        if arg == "-o" || arg == "--output" {
+            args.next();
+        } else if !arg.starts_with("--output=") {
+            command.push(arg);
+        }
+    }
+    let commented: String = std::iter::once(format!("Written by: {}", command.join(" ")))
+        .chain(report.text(false).lines().map(str::to_string))
+        .map(|l| format!("# {l}\n"))
+        .collect();
     let text = format!("{commented}{text}");
     if output.is_some() {
         print!("{summary}");

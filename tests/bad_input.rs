@@ -530,3 +530,28 @@ fn shapes_give_mass_properties_or_located_errors() {
     expect_error(|g| g.replacen(p1, crossed, 1), Some("shape ="), &["p1", "cross"]);
     expect_error(|g| g.replacen(p1, "name = \"p1\"", 1), None, &["p1", "needs 'mass'"]);
 }
+
+/// `[initial.loop.NAME]` picks a loop hinge's branch (±180°, whole turns); the angles must
+/// agree with the bodies' poses, name a loop hinge, and not repeat `[initial.hinge]`.
+#[test]
+fn loop_hinge_branches() {
+    let with_loop = |extra: &str| {
+        let t = GOOD.replace(
+            "[initial.hinge.h1]",
+            "[[hinge]]\nname = \"h3\"\nparent = \"hub\"\nchild = \"p2\"\na0 = \"assembled\"\na = { child_com = [1.0, 0.0, 0.0] }\nlaw = { type = \"euler-potential\", k_f = 100.0, k_theta = 10.0 }\n\n[initial.hinge.h1]",
+        );
+        format!("{t}\n{extra}")
+    };
+    // A whole turn of yaw is a branch, accepted and kept as the hinge's starting angle.
+    let s = Scenario::from_toml(&with_loop("[initial.loop.h3]\nyaw = 6.283185307179586\n"), "good.toml").unwrap();
+    let (_, refs) = foldsim::kinematics::initial_state(&s.model, &s.initial);
+    assert!((refs[2].yaw - 2.0 * std::f64::consts::PI).abs() < 1e-12, "{:?}", refs[2]);
+    expect_error(|_| with_loop("[initial.loop.h3]\nyaw = 1.0\n"), Some("[initial.loop.h3]"), &["h3", "must agree"]);
+    expect_error(|_| with_loop("[initial.loop.h2]\nyaw = 0.0\n"), Some("[initial.loop.h2]"), &["h2", "tree hinge"]);
+    expect_error(|_| with_loop("[initial.loop.h9]\nyaw = 0.0\n"), Some("[initial.loop.h9]"), &["h9", "h1, h2, h3"]);
+    expect_error(
+        |_| with_loop("[initial.loop.h1]\nyaw = 0.0\n"),
+        Some("[initial.loop.h1]"),
+        &["h1", "[initial.hinge.h1]"],
+    );
+}

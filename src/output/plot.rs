@@ -36,6 +36,14 @@ pub fn unit_of(column: &str) -> &'static str {
         "kg·m²/s"
     } else if ["T", "V", "E", "D"].contains(&column) {
         "J"
+    } else if column == "spin_rate" {
+        "rad/s"
+    } else if column == "I_spin" {
+        "kg·m²"
+    } else if column == "radius" {
+        "m"
+    } else if column == "deployed" {
+        "of the design radius"
     } else {
         ""
     }

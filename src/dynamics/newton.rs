@@ -120,9 +120,9 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     /// Elimination order and each body's position in it.
     order: Vec<usize>,
     position: Vec<usize>,
-    /// Per eliminated body p: LU of the pivot block, and its row blocks U[p][j] and
+    /// Per eliminated body p: the inverse of the pivot block, its row blocks U[p][j] and
     /// multipliers L[i][p] = S[i][p] S[p][p]⁻¹, for neighbours later in the order.
-    pivots: Vec<Option<nalgebra::LU<f64, nalgebra::Const<V>, nalgebra::Const<V>>>>,
+    pivots: Vec<Block>,
     upper: Vec<Vec<(usize, Block)>>,
     lower: Vec<Vec<(usize, Block)>>,
     evaluations: usize,
@@ -484,7 +484,7 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             first += k;
         }
         let position = &self.position;
-        self.pivots = vec![None; nodes];
+        self.pivots = vec![Block::zeros(); nodes];
         self.upper = vec![Vec::new(); nodes];
         self.lower = vec![Vec::new(); nodes];
         for &p in &self.order {
@@ -508,7 +508,9 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
                 }
                 lower.push((i, l));
             }
-            self.pivots[p] = Some(lu);
+            // The pivot's inverse, so each solve is a product (6×6, factored above).
+            let Some(inverse) = lu.try_inverse() else { return false };
+            self.pivots[p] = inverse;
             self.upper[p] = upper;
             self.lower[p] = lower;
         }
@@ -559,7 +561,7 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             for (j, u) in &self.upper[p] {
                 xp -= u * twist[*j];
             }
-            twist[p] = self.pivots[p].as_ref().expect("factored").solve(&xp).expect("invertible pivot");
+            twist[p] = self.pivots[p] * xp;
         }
         // Poses: Δx = P (r_x + hγ ∂ẋ/∂v Δv) = P r_x + hγ P ∂ẋ/∂v Δv.
         for b in 0..self.nb {

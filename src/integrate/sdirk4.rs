@@ -76,7 +76,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         if stats.accepted + stats.rejected >= limits.max_steps {
             return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
         }
-        if (h - prepared_h).abs() > 1e-12 * h && !newton.refactor(h * GAMMA) {
+        if (h - prepared_h).abs() > 1e-12 * h && !stats.refactor(&mut *newton, h * GAMMA) {
             return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
         }
         prepared_h = h;
@@ -149,7 +149,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             if fresh_jacobian {
                 // The Jacobian is current: shrink the step.
                 h *= 0.5;
-                if !newton.refactor(h * GAMMA) {
+                if !stats.refactor(&mut *newton, h * GAMMA) {
                     return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
                 }
             } else {

@@ -47,6 +47,17 @@ pub struct Stats {
     pub newton_iterations: usize,
     /// Jacobians formed (implicit methods).
     pub jacobians: usize,
+    /// Factorizations of the Newton matrix for a new step size with the Jacobian kept
+    /// (implicit methods).
+    pub refactorizations: usize,
+}
+
+impl Stats {
+    /// Refactors `newton` for `h_gamma`, counting it.
+    pub(crate) fn refactor(&mut self, newton: &mut dyn crate::integrate::NewtonMatrix, h_gamma: f64) -> bool {
+        self.refactorizations += 1;
+        newton.refactor(h_gamma)
+    }
 }
 
 /// Bounds that make every integration end, whatever the system does.

@@ -66,6 +66,8 @@ pub struct RunReport {
     pub newton_iterations: usize,
     /// Jacobians formed (implicit path).
     pub jacobians: usize,
+    /// Refactorizations of the Newton matrix for a new step size (SDIRK4).
+    pub refactorizations: usize,
     /// Of those, formed by finite differences because the exact (dual-number) Jacobian does
     /// not cover the model (a hinge law without a dual form; none of the shipped laws).
     pub differenced_jacobians: usize,

@@ -516,6 +516,7 @@ pub fn simulate(
         deployed_90: out.deployed_90,
         newton_iterations: stats.newton_iterations,
         jacobians: stats.jacobians,
+        refactorizations: stats.refactorizations,
         differenced_jacobians,
     })
 }

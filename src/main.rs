@@ -5,8 +5,10 @@ use foldsim::law::EventKind;
 use foldsim::law::directional::DIRECTION_NAMES;
 use foldsim::observe::Selection;
 use foldsim::output::CsvSink;
+#[cfg(feature = "animation")]
+use foldsim::output::animation::Frames;
 use foldsim::scenario::Scenario;
-use foldsim::simulate::{RunReport, simulate};
+use foldsim::simulate::{RunReport, Sink, simulate};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
@@ -46,6 +48,29 @@ enum Command {
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
+        /// Also write the run as an animated glTF binary (.glb; docs/outputs.md).
+        #[cfg(feature = "animation")]
+        #[arg(long)]
+        animation: Option<PathBuf>,
+        /// Frames per second of simulated time in the animation (default: one per output row).
+        #[cfg(feature = "animation")]
+        #[arg(long)]
+        animation_fps: Option<f64>,
+    },
+    /// Write an animated glTF binary (.glb) of a finished run from its CSV and its scenario.
+    #[cfg(feature = "animation")]
+    Animate {
+        /// The run's scenario file.
+        scenario: PathBuf,
+        /// The run's CSV (it must hold every body's _R_x/y/z and yaw/pitch/roll columns).
+        #[arg(long)]
+        csv: PathBuf,
+        /// The .glb file to write.
+        #[arg(long, short)]
+        output: PathBuf,
+        /// Frames per second of simulated time (default: one per CSV row).
+        #[arg(long)]
+        fps: Option<f64>,
     },
     /// Write a generated structure as a scenario file.
     Generate {
@@ -183,9 +208,17 @@ struct FlasherArgs {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { scenario, csv, columns, large_output, quiet } => {
-            run(&scenario, csv, columns, large_output, quiet)
+        #[cfg(feature = "animation")]
+        Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps } => {
+            let animation = animation.map(|path| (path, animation_fps));
+            run(&scenario, csv, columns, large_output, quiet, animation)
         }
+        #[cfg(not(feature = "animation"))]
+        Command::Run { scenario, csv, columns, large_output, quiet } => {
+            run(&scenario, csv, columns, large_output, quiet, None)
+        }
+        #[cfg(feature = "animation")]
+        Command::Animate { scenario, csv, output, fps } => animate(&scenario, &csv, &output, fps),
         Command::Generate {
             shape,
             panel_mass,
@@ -374,8 +407,12 @@ fn run(
     columns: Option<Vec<String>>,
     large_output: bool,
     quiet: bool,
+    animation: Option<(PathBuf, Option<f64>)>,
 ) -> Result<(), String> {
     let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
+    if let Some((glb, fps)) = &animation {
+        check_animation_target(glb, *fps, &scenario.inputs)?;
+    }
     for w in &scenario.warnings {
         eprintln!("warning: {w}");
     }
@@ -424,7 +461,17 @@ fn run(
         }
         if interrupted.load(Ordering::SeqCst) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     };
-    let result = simulate(&scenario.model, &scenario.initial, settings, &mut sink, Some(&mut tick));
+    let mut frames = animation.as_ref().map(|(_, fps)| Frames::new(scenario.model.bodies.len(), *fps));
+    let result = {
+        let mut both = |o: &foldsim::observe::Observation| -> Result<(), String> {
+            sink.record(o)?;
+            if let Some(f) = frames.as_mut() {
+                f.push(o);
+            }
+            Ok(())
+        };
+        simulate(&scenario.model, &scenario.initial, settings, &mut both, Some(&mut tick))
+    };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -433,6 +480,10 @@ fn run(
             let written = sink.finish()?;
             if !quiet {
                 print_report(&scenario, &report, &written);
+            }
+            if let (Some((glb, _)), Some(mut frames)) = (animation, frames) {
+                frames.finish();
+                write_animation(&scenario.model, &frames, &glb, quiet)?;
             }
             Ok(())
         }
@@ -447,6 +498,105 @@ fn run(
             Err(message)
         }
     }
+}
+
+#[cfg(not(feature = "animation"))]
+struct Frames;
+
+#[cfg(not(feature = "animation"))]
+impl Frames {
+    fn new(_: usize, _: Option<f64>) -> Self {
+        Frames
+    }
+    fn push(&mut self, _: &foldsim::observe::Observation) {}
+    fn finish(&mut self) {}
+}
+
+#[cfg(not(feature = "animation"))]
+fn check_animation_target(_: &Path, _: Option<f64>, _: &[PathBuf]) -> Result<(), String> {
+    Ok(())
+}
+
+#[cfg(not(feature = "animation"))]
+fn write_animation(_: &foldsim::model::Model, _: &Frames, _: &Path, _: bool) -> Result<(), String> {
+    Ok(())
+}
+
+/// Refuses an animation target that is an input, or a frame rate that is not positive.
+#[cfg(feature = "animation")]
+fn check_animation_target(glb: &Path, fps: Option<f64>, inputs: &[PathBuf]) -> Result<(), String> {
+    if let Some(f) = fps
+        && !(f.is_finite() && f > 0.0)
+    {
+        return Err(format!("the animation's frame rate must be a positive number of frames per second; got {f}"));
+    }
+    refuse_inputs(glb, inputs)
+}
+
+#[cfg(feature = "animation")]
+fn write_animation(model: &foldsim::model::Model, frames: &Frames, glb: &Path, quiet: bool) -> Result<(), String> {
+    let written = foldsim::output::animation::write_glb(model, frames, glb)?;
+    if !quiet {
+        println!(
+            "  animation        {} frames, {:.1} MB -> {}",
+            written.frames,
+            written.bytes as f64 / 1e6,
+            glb.display()
+        );
+    }
+    Ok(())
+}
+
+/// `foldsim animate`: the animation of a finished run from its CSV's body columns.
+#[cfg(feature = "animation")]
+fn animate(scenario_path: &Path, csv: &Path, output: &Path, fps: Option<f64>) -> Result<(), String> {
+    use foldsim::math::{Euler321, Vec3};
+    let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
+    check_animation_target(output, fps, &scenario.inputs)?;
+    let model = &scenario.model;
+    let mut reader = csv::Reader::from_path(csv).map_err(|e| format!("cannot read {}: {e}", csv.display()))?;
+    let header: Vec<String> =
+        reader.headers().map_err(|e| format!("{}: {e}", csv.display()))?.iter().map(|h| h.trim().to_string()).collect();
+    let find = |name: &str| header.iter().position(|h| h == name);
+    let t_col = find("t").ok_or_else(|| format!("{}: no column 't'", csv.display()))?;
+    let mut cols = Vec::new();
+    let mut missing = Vec::new();
+    for b in &model.bodies {
+        let names = ["_R_x", "_R_y", "_R_z", "_yaw", "_pitch", "_roll"].map(|s| format!("{}{s}", b.name));
+        let found: Vec<Option<usize>> = names.iter().map(|n| find(n)).collect();
+        missing.extend(names.iter().zip(&found).filter(|(_, f)| f.is_none()).map(|(n, _)| n.clone()));
+        cols.push(found);
+    }
+    if !missing.is_empty() {
+        let shown: Vec<&str> = missing.iter().take(6).map(String::as_str).collect();
+        return Err(format!(
+            "{}: the animation needs every body's position and angles; missing {} column(s), e.g. {} (rerun with --columns default or include *_R_*)",
+            csv.display(),
+            missing.len(),
+            shown.join(", ")
+        ));
+    }
+    let mut frames = Frames::new(model.bodies.len(), fps);
+    for (line, record) in reader.records().enumerate() {
+        let record = record.map_err(|e| format!("{}: {e}", csv.display()))?;
+        let value = |i: usize| -> Result<f64, String> {
+            let field = record.get(i).unwrap_or("").trim();
+            field.parse::<f64>().map_err(|_| {
+                format!("{}: row {} column '{}': '{field}' is not a number", csv.display(), line + 2, header[i])
+            })
+        };
+        let t = value(t_col)?;
+        let mut r = Vec::with_capacity(cols.len());
+        let mut th = Vec::with_capacity(cols.len());
+        for c in &cols {
+            let v: Vec<f64> = c.iter().map(|i| value(i.expect("checked"))).collect::<Result<_, _>>()?;
+            r.push(Vec3::new(v[0], v[1], v[2]));
+            th.push(Euler321::new(v[3], v[4], v[5]));
+        }
+        frames.push_angles(t, &r, &th);
+    }
+    frames.finish();
+    write_animation(model, &frames, output, false)
 }
 
 /// Refuses an output path that is one of the run's inputs (the scenario or a table file):

@@ -3,6 +3,7 @@
 
 pub mod body;
 pub mod hinge;
+pub mod mesh;
 pub mod rates;
 pub mod shape;
 

@@ -1,6 +1,9 @@
-//! What a run writes: CSV rows as they are made ([`csv_sink`]), and PNG plots of output
-//! columns ([`plot`], feature `plot`).
+//! What a run writes: CSV rows as they are made ([`csv_sink`]), PNG plots of output
+//! columns ([`plot`], feature `plot`), and animated glTF files ([`animation`], feature
+//! `animation`).
 
+#[cfg(feature = "animation")]
+pub mod animation;
 pub mod csv_sink;
 #[cfg(feature = "plot")]
 pub mod plot;

@@ -72,6 +72,28 @@ enum Command {
         #[arg(long)]
         fps: Option<f64>,
     },
+    /// Write one self-contained HTML page that plays a finished run (works offline, from a
+    /// file): the animation with play, pause, speed and a time slider, an orbiting camera,
+    /// panels coloured by body or by fold angle, and a plot of output columns whose cursor
+    /// follows the animation.
+    #[cfg(feature = "animation")]
+    View {
+        /// The run's scenario file.
+        scenario: PathBuf,
+        /// The run's CSV (with every body's _R_x/y/z and yaw/pitch/roll columns).
+        #[arg(long)]
+        csv: PathBuf,
+        /// The .html page to write.
+        #[arg(long, short)]
+        output: PathBuf,
+        /// Columns to plot, comma-separated (default: the deployed fraction and spin rate of
+        /// a large structure, else the first hinges' fold angles).
+        #[arg(long, value_delimiter = ',')]
+        columns: Vec<String>,
+        /// Animation frames per second of simulated time (default: one per CSV row).
+        #[arg(long)]
+        fps: Option<f64>,
+    },
     /// Write a generated structure as a scenario file.
     Generate {
         #[command(subcommand)]
@@ -219,6 +241,8 @@ fn main() -> ExitCode {
         }
         #[cfg(feature = "animation")]
         Command::Animate { scenario, csv, output, fps } => animate(&scenario, &csv, &output, fps),
+        #[cfg(feature = "animation")]
+        Command::View { scenario, csv, output, columns, fps } => view(&scenario, &csv, &output, fps, &columns),
         Command::Generate {
             shape,
             panel_mass,
@@ -550,53 +574,33 @@ fn write_animation(model: &foldsim::model::Model, frames: &Frames, glb: &Path, q
 /// `foldsim animate`: the animation of a finished run from its CSV's body columns.
 #[cfg(feature = "animation")]
 fn animate(scenario_path: &Path, csv: &Path, output: &Path, fps: Option<f64>) -> Result<(), String> {
-    use foldsim::math::{Euler321, Vec3};
+    use foldsim::output::animation::{Table, frames_from_table};
     let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
     check_animation_target(output, fps, &scenario.inputs)?;
-    let model = &scenario.model;
-    let mut reader = csv::Reader::from_path(csv).map_err(|e| format!("cannot read {}: {e}", csv.display()))?;
-    let header: Vec<String> =
-        reader.headers().map_err(|e| format!("{}: {e}", csv.display()))?.iter().map(|h| h.trim().to_string()).collect();
-    let find = |name: &str| header.iter().position(|h| h == name);
-    let t_col = find("t").ok_or_else(|| format!("{}: no column 't'", csv.display()))?;
-    let mut cols = Vec::new();
-    let mut missing = Vec::new();
-    for b in &model.bodies {
-        let names = ["_R_x", "_R_y", "_R_z", "_yaw", "_pitch", "_roll"].map(|s| format!("{}{s}", b.name));
-        let found: Vec<Option<usize>> = names.iter().map(|n| find(n)).collect();
-        missing.extend(names.iter().zip(&found).filter(|(_, f)| f.is_none()).map(|(n, _)| n.clone()));
-        cols.push(found);
-    }
-    if !missing.is_empty() {
-        let shown: Vec<&str> = missing.iter().take(6).map(String::as_str).collect();
-        return Err(format!(
-            "{}: the animation needs every body's position and angles; missing {} column(s), e.g. {} (rerun with --columns default or include *_R_*)",
-            csv.display(),
-            missing.len(),
-            shown.join(", ")
-        ));
-    }
-    let mut frames = Frames::new(model.bodies.len(), fps);
-    for (line, record) in reader.records().enumerate() {
-        let record = record.map_err(|e| format!("{}: {e}", csv.display()))?;
-        let value = |i: usize| -> Result<f64, String> {
-            let field = record.get(i).unwrap_or("").trim();
-            field.parse::<f64>().map_err(|_| {
-                format!("{}: row {} column '{}': '{field}' is not a number", csv.display(), line + 2, header[i])
-            })
-        };
-        let t = value(t_col)?;
-        let mut r = Vec::with_capacity(cols.len());
-        let mut th = Vec::with_capacity(cols.len());
-        for c in &cols {
-            let v: Vec<f64> = c.iter().map(|i| value(i.expect("checked"))).collect::<Result<_, _>>()?;
-            r.push(Vec3::new(v[0], v[1], v[2]));
-            th.push(Euler321::new(v[3], v[4], v[5]));
-        }
-        frames.push_angles(t, &r, &th);
-    }
-    frames.finish();
-    write_animation(model, &frames, output, false)
+    let table = Table::read(csv)?;
+    let (frames, _) = frames_from_table(&scenario.model, &table, fps).map_err(|m| format!("{}: {m}", csv.display()))?;
+    write_animation(&scenario.model, &frames, output, false)
+}
+
+/// `foldsim view`: a self-contained page playing a finished run, beside a plot of `columns`.
+#[cfg(feature = "animation")]
+fn view(scenario_path: &Path, csv: &Path, output: &Path, fps: Option<f64>, columns: &[String]) -> Result<(), String> {
+    use foldsim::output::animation::{Table, frames_from_table, write_atomically};
+    let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
+    check_animation_target(output, fps, &scenario.inputs)?;
+    let table = Table::read(csv)?;
+    let (frames, kept) =
+        frames_from_table(&scenario.model, &table, fps).map_err(|m| format!("{}: {m}", csv.display()))?;
+    let title = scenario.title.clone().unwrap_or_else(|| scenario_path.display().to_string());
+    let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, columns)?;
+    write_atomically(output, html.as_bytes())?;
+    println!(
+        "  viewer           {} frames, {:.1} MB -> {}",
+        frames.times.len(),
+        html.len() as f64 / 1e6,
+        output.display()
+    );
+    Ok(())
 }
 
 /// Refuses an output path that is one of the run's inputs (the scenario or a table file):

@@ -89,6 +89,92 @@ fn quaternion_n_b(dcm_n_b: &Mat3) -> UnitQuaternion<f64> {
     UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(*dcm_n_b))
 }
 
+/// A CSV of `foldsim run`: its header and rows, every field a number.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Table {
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows of values.
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    /// Reads `path`; a field that is not a number is named by row and column.
+    pub fn read(path: &Path) -> Result<Self, String> {
+        let mut reader = csv::Reader::from_path(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let header: Vec<String> = reader
+            .headers()
+            .map_err(|e| format!("{}: {e}", path.display()))?
+            .iter()
+            .map(|h| h.trim().to_string())
+            .collect();
+        let mut rows = Vec::new();
+        for (line, record) in reader.records().enumerate() {
+            let record = record.map_err(|e| format!("{}: {e}", path.display()))?;
+            let row = record
+                .iter()
+                .zip(&header)
+                .map(|(field, name)| {
+                    field.trim().parse::<f64>().map_err(|_| {
+                        format!(
+                            "{}: row {} column '{name}': '{}' is not a number",
+                            path.display(),
+                            line + 2,
+                            field.trim()
+                        )
+                    })
+                })
+                .collect::<Result<Vec<f64>, String>>()?;
+            rows.push(row);
+        }
+        Ok(Self { header, rows })
+    }
+
+    /// The index of column `name`.
+    pub fn column(&self, name: &str) -> Option<usize> {
+        self.header.iter().position(|h| h == name)
+    }
+}
+
+/// The frames of a finished run from its CSV (every body's `_R_x/y/z` and
+/// `_yaw/_pitch/_roll` columns), about `fps` per second if given, and the rows they came from.
+pub fn frames_from_table(model: &Model, table: &Table, fps: Option<f64>) -> Result<(Frames, Vec<usize>), String> {
+    let t_col = table.column("t").ok_or("no column 't'")?;
+    let mut cols = Vec::new();
+    let mut missing = Vec::new();
+    for b in &model.bodies {
+        let names = ["_R_x", "_R_y", "_R_z", "_yaw", "_pitch", "_roll"].map(|s| format!("{}{s}", b.name));
+        let found: Vec<Option<usize>> = names.iter().map(|n| table.column(n)).collect();
+        missing.extend(names.iter().zip(&found).filter(|(_, f)| f.is_none()).map(|(n, _)| n.clone()));
+        cols.push(found.into_iter().flatten().collect::<Vec<usize>>());
+    }
+    if !missing.is_empty() {
+        let shown: Vec<&str> = missing.iter().take(6).map(String::as_str).collect();
+        return Err(format!(
+            "the animation needs every body's position and angles; missing {} column(s), e.g. {} (rerun with the default columns, or add *_R_* and the bodies' angles)",
+            missing.len(),
+            shown.join(", ")
+        ));
+    }
+    let mut frames = Frames::new(model.bodies.len(), fps);
+    let mut kept = Vec::new();
+    for (k, row) in table.rows.iter().enumerate() {
+        let r: Vec<Vec3> = cols.iter().map(|c| Vec3::new(row[c[0]], row[c[1]], row[c[2]])).collect();
+        let th: Vec<Euler321> = cols.iter().map(|c| Euler321::new(row[c[3]], row[c[4]], row[c[5]])).collect();
+        let before = frames.times.len();
+        frames.push_angles(row[t_col], &r, &th);
+        if frames.times.len() > before {
+            kept.push(k);
+        }
+    }
+    let before = frames.times.len();
+    frames.finish();
+    if frames.times.len() > before {
+        kept.push(table.rows.len() - 1);
+    }
+    Ok((frames, kept))
+}
+
 /// What was written.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Written {
@@ -236,6 +322,13 @@ fn size(positions: &[Vec3]) -> f64 {
 /// Writes `frames` of `model` as a glTF binary at `path` (through `path.partial`, renamed
 /// when complete).
 pub fn write_glb(model: &Model, frames: &Frames, path: &Path) -> Result<Written, String> {
+    let glb = glb_bytes(model, frames)?;
+    write_atomically(path, &glb)?;
+    Ok(Written { frames: frames.times.len(), bytes: glb.len() })
+}
+
+/// The glTF binary of `frames` of `model`.
+pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
     if frames.times.is_empty() || frames.bodies != model.bodies.len() {
         return Err("no frames to animate".into());
     }
@@ -417,12 +510,17 @@ pub fn write_glb(model: &Model, frames: &Frames, path: &Path) -> Result<Written,
         extensions: None,
         extras: Default::default(),
     });
-    let glb = glb_container(&root.to_vec().map_err(|e| format!("cannot encode the glTF JSON: {e}"))?, &bin.data);
-    let partial = path.with_extension("glb.partial");
-    std::fs::write(&partial, &glb).map_err(|e| format!("cannot write {}: {e}", partial.display()))?;
+    Ok(glb_container(&root.to_vec().map_err(|e| format!("cannot encode the glTF JSON: {e}"))?, &bin.data))
+}
+
+/// Writes `bytes` to `path` through `path.partial`, renamed when complete.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let mut partial = path.as_os_str().to_owned();
+    partial.push(".partial");
+    let partial = std::path::PathBuf::from(partial);
+    std::fs::write(&partial, bytes).map_err(|e| format!("cannot write {}: {e}", partial.display()))?;
     std::fs::rename(&partial, path)
-        .map_err(|e| format!("cannot rename {} to {}: {e}", partial.display(), path.display()))?;
-    Ok(Written { frames: times.len(), bytes: glb.len() })
+        .map_err(|e| format!("cannot rename {} to {}: {e}", partial.display(), path.display()))
 }
 
 /// A unit quaternion as glTF's (x, y, z, w) in f32, renormalized after rounding.

@@ -7,5 +7,7 @@ pub mod animation;
 pub mod csv_sink;
 #[cfg(feature = "plot")]
 pub mod plot;
-
+pub mod units;
+#[cfg(feature = "animation")]
+pub mod viewer;
 pub use csv_sink::CsvSink;

@@ -1,5 +1,6 @@
 //! Line plots of output columns against time, as PNG (feature `plot`).
 
+pub use super::units::unit_of;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 use std::path::Path;
@@ -13,40 +14,6 @@ fn register() {
         let bytes: &'static [u8] = include_bytes!("../../assets/DejaVuSans.ttf");
         let _ = register_font("sans-serif", FontStyle::Normal, bytes);
     });
-}
-
-/// The unit of an output column, from its name (the catalogue's naming: docs/outputs.md);
-/// empty if the name is not one of foldsim's.
-pub fn unit_of(column: &str) -> &'static str {
-    let ends = |suffixes: &[&str]| suffixes.iter().any(|s| column.ends_with(s));
-    let xyz = |stem: &str| ["x", "y", "z"].iter().any(|a| column.ends_with(&format!("{stem}_{a}")));
-    if column == "t" {
-        "s"
-    } else if ends(&["_yaw", "_pitch", "_roll"]) {
-        "rad"
-    } else if xyz("_delta_rate") || xyz("_v") {
-        "m/s"
-    } else if xyz("_wrel") || xyz("_w") || (column.starts_with("w_B_") && xyz("w_B")) {
-        "rad/s"
-    } else if xyz("_delta") || xyz("_R") || xyz("R_B") || xyz("Rc") {
-        "m"
-    } else if xyz("P") && column.len() == 3 {
-        "kg·m/s"
-    } else if xyz("H") && column.len() == 3 {
-        "kg·m²/s"
-    } else if ["T", "V", "E", "D"].contains(&column) {
-        "J"
-    } else if column == "spin_rate" {
-        "rad/s"
-    } else if column == "I_spin" {
-        "kg·m²"
-    } else if column == "radius" {
-        "m"
-    } else if column == "deployed" {
-        "of the design radius"
-    } else {
-        ""
-    }
 }
 
 /// Plots `columns` of the foldsim CSV `csv` against `t` into the PNG `out`. With `degrees`,

@@ -114,3 +114,44 @@ fn animation_requests_are_checked() {
     assert!(!out.status.success() && err.contains("hub_R_x") && err.contains("missing"), "{err}");
     assert!(!dir.join("b.glb").exists());
 }
+
+/// The viewer page: every placeholder filled (the browser test in CI loads it), the plotted
+/// columns and fold angles embedded; a column the CSV lacks is named.
+#[test]
+fn viewer_page_is_self_contained() {
+    let dir = tmp("animation", "view");
+    let scenario = repo("examples/paper-3panel.toml");
+    let csv = dir.join("run.csv");
+    let out = foldsim().arg("run").arg(&scenario).arg("--csv").arg(&csv).arg("-q").output().unwrap();
+    assert!(out.status.success());
+    let page = dir.join("run.html");
+    let out = foldsim()
+        .arg("view")
+        .arg(&scenario)
+        .arg("--csv")
+        .arg(&csv)
+        .arg("-o")
+        .arg(&page)
+        .args(["--columns", "E,h1_yaw"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(!html.contains("{{") && html.contains("window.FOLDSIM_DATA = {\"title\":"));
+    assert!(html.contains("\"names\":[\"E\",\"h1_yaw\"]") && html.contains("\"units\":[\"J\",\"rad\"]"));
+    assert!(html.contains("FOLDSIM_THREE") && html.contains("The MIT License"), "three.js and its licence are inside");
+    assert!(!html.contains("src=\"http") && !html.contains("import "), "nothing is fetched");
+    let out = foldsim()
+        .arg("view")
+        .arg(&scenario)
+        .arg("--csv")
+        .arg(&csv)
+        .arg("-o")
+        .arg(dir.join("bad.html"))
+        .args(["--columns", "nope"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("'nope'"), "{err}");
+    assert!(!dir.join("bad.html").exists());
+}

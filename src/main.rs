@@ -56,6 +56,10 @@ enum Command {
         #[cfg(feature = "animation")]
         #[arg(long)]
         animation_fps: Option<f64>,
+        /// Also write the viewer page of the run (as `foldsim view` does from the CSV).
+        #[cfg(feature = "animation")]
+        #[arg(long)]
+        view: Option<PathBuf>,
     },
     /// Write an animated glTF binary (.glb) of a finished run from its CSV and its scenario.
     #[cfg(feature = "animation")]
@@ -231,13 +235,16 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         #[cfg(feature = "animation")]
-        Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps } => {
-            let animation = animation.map(|path| (path, animation_fps));
-            run(&scenario, csv, columns, large_output, quiet, animation)
+        Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps, view: page } => {
+            let animation_target = animation.map(|path| (path, animation_fps));
+            run(&scenario, csv, columns, large_output, quiet, animation_target).and_then(|csv| match page {
+                Some(page) => view(&scenario, &csv, &page, animation_fps, &[]),
+                None => Ok(()),
+            })
         }
         #[cfg(not(feature = "animation"))]
         Command::Run { scenario, csv, columns, large_output, quiet } => {
-            run(&scenario, csv, columns, large_output, quiet, None)
+            run(&scenario, csv, columns, large_output, quiet, None).map(|_| ())
         }
         #[cfg(feature = "animation")]
         Command::Animate { scenario, csv, output, fps } => animate(&scenario, &csv, &output, fps),
@@ -432,7 +439,7 @@ fn run(
     large_output: bool,
     quiet: bool,
     animation: Option<(PathBuf, Option<f64>)>,
-) -> Result<(), String> {
+) -> Result<PathBuf, String> {
     let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
     if let Some((glb, fps)) = &animation {
         check_animation_target(glb, *fps, &scenario.inputs)?;
@@ -509,7 +516,7 @@ fn run(
                 frames.finish();
                 write_animation(&scenario.model, &frames, &glb, quiet)?;
             }
-            Ok(())
+            Ok(written)
         }
         Err(e) => {
             let partial = sink.partial_path().to_path_buf();

@@ -141,6 +141,20 @@ fn viewer_page_is_self_contained() {
     assert!(html.contains("\"names\":[\"E\",\"h1_yaw\"]") && html.contains("\"units\":[\"J\",\"rad\"]"));
     assert!(html.contains("FOLDSIM_THREE") && html.contains("The MIT License"), "three.js and its licence are inside");
     assert!(!html.contains("src=\"http") && !html.contains("import "), "nothing is fetched");
+    // The same page straight from a run.
+    let (csv2, page2) = (dir.join("run2.csv"), dir.join("run2.html"));
+    let out = foldsim()
+        .arg("run")
+        .arg(&scenario)
+        .arg("--csv")
+        .arg(&csv2)
+        .arg("--view")
+        .arg(&page2)
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::read_to_string(&page2).unwrap().contains("window.FOLDSIM_DATA"));
     let out = foldsim()
         .arg("view")
         .arg(&scenario)

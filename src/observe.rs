@@ -27,6 +27,11 @@ pub struct Observation {
     pub hinge_delta_rate_in_a0: Vec<Vec3>,
     /// Per hinge: `ω_{A/A0}`, rad/s, A components.
     pub hinge_omega_rel_in_a: Vec<Vec3>,
+    /// Per hinge, the law's restoring force `F`, N, A0 components (the child receives −F at
+    /// A's origin, the parent +F); reactions of locked directions are not included.
+    pub hinge_force_in_a0: Vec<Vec3>,
+    /// Per hinge, the law's restoring torque `τ`, N·m, A components (the child receives −τ).
+    pub hinge_torque_in_a: Vec<Vec3>,
     /// Per body: CoM `R_i`, m, N components.
     pub body_r_in_n: Vec<Vec3>,
     /// Per body: `θ_{i/N}`, principal values, rad.
@@ -136,6 +141,8 @@ impl Observer {
         let mut hinge_theta = Vec::with_capacity(nh);
         let mut hinge_delta_rate_in_a0 = Vec::with_capacity(nh);
         let mut hinge_omega_rel_in_a = Vec::with_capacity(nh);
+        let mut hinge_force_in_a0 = Vec::with_capacity(nh);
+        let mut hinge_torque_in_a = Vec::with_capacity(nh);
         let mut hinge_energy = 0.0;
         for ((h, r), m) in model.hinges.iter().zip(theta_refs).zip(memories) {
             let k = hinge_kinematics(h, &motions[h.parent], &motions[h.child], r);
@@ -143,6 +150,9 @@ impl Observer {
             hinge_theta.push(k.state.theta);
             hinge_delta_rate_in_a0.push(k.state.delta_rate_in_a0);
             hinge_omega_rel_in_a.push(k.state.omega_rel_in_a);
+            let w = h.law.wrench(&k.state, m);
+            hinge_force_in_a0.push(w.force_in_a0);
+            hinge_torque_in_a.push(w.torque_in_a);
             hinge_energy += h.law.stored_energy(&k.state, m);
         }
         let d0 = crate::state::BODY_STATE_LEN * model.bodies.len();
@@ -179,6 +189,8 @@ impl Observer {
             hinge_theta,
             hinge_delta_rate_in_a0,
             hinge_omega_rel_in_a,
+            hinge_force_in_a0,
+            hinge_torque_in_a,
             body_r_in_n: motions.iter().map(|m| m.r_in_n).collect(),
             body_theta: motions.iter().map(|m| Euler321::from_dcm(&m.dcm_n_b.transpose())).collect(),
             body_v_in_n: motions.iter().map(|m| m.v_in_n).collect(),
@@ -256,6 +268,8 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
         push(&mut c, &h.name, YPR, true);
         push(&mut c, &format!("{}_delta_rate", h.name), XYZ, true);
         push(&mut c, &format!("{}_wrel", h.name), XYZ, true);
+        push(&mut c, &format!("{}_F", h.name), XYZ, false);
+        push(&mut c, &format!("{}_M", h.name), XYZ, false);
     }
     for b in &model.bodies {
         push(&mut c, &format!("{}_R", b.name), XYZ, true);
@@ -285,6 +299,8 @@ pub fn row(o: &Observation) -> Vec<f64> {
         a(&mut r, &o.hinge_theta[i]);
         v(&mut r, &o.hinge_delta_rate_in_a0[i]);
         v(&mut r, &o.hinge_omega_rel_in_a[i]);
+        v(&mut r, &o.hinge_force_in_a0[i]);
+        v(&mut r, &o.hinge_torque_in_a[i]);
     }
     for i in 0..o.body_r_in_n.len() {
         v(&mut r, &o.body_r_in_n[i]);

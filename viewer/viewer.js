@@ -3,7 +3,8 @@
 // angle of the hinge that places them, and a plot of output columns whose cursor follows the
 // animation's time. Everything it needs is in the page: it works offline, from a file.
 // Data: window.FOLDSIM_DATA = { title, glb (base64), times [s], plot: { names, units,
-// values: [[per row]] , t: [s] }, fold: { bodies: [names], values: [[deg per frame]] } }.
+// values: [[per row]] , t: [s] }, fold: { bodies: [names], values: [[deg per frame]] },
+// moment: { bodies, values: [[N·m per frame]] } (empty unless the CSV has `_M_z` columns) }.
 (function () {
   const { THREE, GLTFLoader, OrbitControls } = window.FOLDSIM_THREE;
   const data = window.FOLDSIM_DATA;
@@ -75,21 +76,26 @@
   });
 
   // Colours: by body (the file's), or by fold angle (0° blue … 180° red).
+  // The largest |moment| over the run, for the moment colour scale.
+  let momentScale = 0;
+  for (const v of data.moment.values) for (const x of v) if (Number.isFinite(x)) momentScale = Math.max(momentScale, Math.abs(x));
   function colour() {
     const mode = $("colour").value;
-    const fold = data.fold;
+    const series = mode === "moment" ? data.moment : data.fold;
+    const full = mode === "moment" ? momentScale || 1 : 180;
     const frame = frameAt(time);
     for (const [name, material] of Object.entries(bodies)) {
-      const k = fold.bodies.indexOf(name);
-      if (mode === "fold" && k >= 0) {
-        const a = Math.min(Math.abs(fold.values[k][frame]) / 180, 1);
+      const k = series.bodies.indexOf(name);
+      if (mode !== "body" && k >= 0) {
+        const a = Math.min(Math.abs(series.values[k][frame]) / full, 1);
         material.color.setHSL((1 - a) * 0.66, 0.75, 0.5);
-      } else if (mode === "fold") {
+      } else if (mode !== "body") {
         material.color.set(0x8a8f99);
       } else {
         material.color.copy(material.userData.base);
       }
     }
+    $("scale").textContent = mode === "fold" ? "blue 0° … red 180°" : mode === "moment" ? "blue 0 … red " + full.toPrecision(3) + " N·m" : "";
   }
   function frameAt(t) {
     const ts = data.times;
@@ -153,6 +159,7 @@
   $("slider").addEventListener("input", () => { playing = false; $("play").textContent = "play"; setTime(Number($("slider").value)); });
   $("colour").addEventListener("change", colour);
   if (!data.fold.bodies.length) $("colour").querySelector("[value=fold]").disabled = true;
+  if (!data.moment.bodies.length) $("colour").querySelector("[value=moment]").disabled = true;
 
   // A small, coarse luminance image of the canvas (for tests): 64 × 48 values in 0…255.
   view.pixels = () => {

@@ -9,6 +9,10 @@ pub fn unit_of(column: &str) -> &'static str {
         "s"
     } else if ends(&["_yaw", "_pitch", "_roll"]) {
         "rad"
+    } else if xyz("_F") && !column.starts_with("R_") {
+        "N"
+    } else if xyz("_M") {
+        "N·m"
     } else if xyz("_delta_rate") || xyz("_v") {
         "m/s"
     } else if xyz("_wrel") || xyz("_w") || (column.starts_with("w_B_") && xyz("w_B")) {

@@ -3,8 +3,9 @@
 //! (vendored in `viewer/three-bundle.js`, MIT licence in `viewer/LICENSE-three.txt`, built
 //! from the npm registry's `three` by `viewer/package.json`), our viewer script
 //! (`viewer/viewer.js`) and the run's data: chosen output columns for the plot, and every
-//! panel's fold angle (the |yaw| of the tree hinge that places it) per frame. No server and no
-//! network: the page opens from a file.
+//! panel's fold angle (the |yaw| of the tree hinge that places it) per frame, and its fold
+//! moment (`_M_z`) where the CSV has it. No server and no network: the page opens from a
+//! file.
 
 use super::animation::{Frames, Table, glb_bytes};
 use super::units::unit_of;
@@ -103,6 +104,23 @@ pub fn page(
             data.push(',');
         }
         numbers(&mut data, kept.iter().map(|&r| table.rows[r][*i].to_degrees()));
+    }
+    // Fold moments, where the CSV has them (`_M_z`, written on request): per body, the
+    // moment of the tree hinge that places it, N·m per frame.
+    data.push_str("]},\"moment\":{\"bodies\":[");
+    let mut moments = Vec::new();
+    for e in &model.tree {
+        if let Some(i) = table.column(&format!("{}_M_z", model.hinges[e.hinge].name)) {
+            moments.push((model.bodies[e.to].name.clone(), i));
+        }
+    }
+    data.push_str(&moments.iter().map(|(b, _)| string(b)).collect::<Vec<_>>().join(","));
+    data.push_str("],\"values\":[");
+    for (k, (_, i)) in moments.iter().enumerate() {
+        if k > 0 {
+            data.push(',');
+        }
+        numbers(&mut data, kept.iter().map(|&r| table.rows[r][*i]));
     }
     data.push_str("]}}");
     // One pass over the template, so nothing inserted is read as a placeholder.

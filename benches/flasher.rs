@@ -23,11 +23,8 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
-fn load() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_default()
-}
+mod common;
+use common::load;
 
 /// Seconds per call of `f`, over at least 0.5 s.
 fn per_call(mut f: impl FnMut()) -> f64 {

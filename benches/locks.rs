@@ -40,11 +40,8 @@ use foldsim::simulate::simulate;
 use std::path::Path;
 use std::time::Instant;
 
-fn load() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_default()
-}
+mod common;
+use common::load;
 
 /// Springs for the `stiff` variant: (translational, rotational) law entries.
 const EXAMPLE_SPRINGS: (&str, &str) = ("k = 2e5, damping = 20.0", "k = 2e3, damping = 0.5");

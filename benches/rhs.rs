@@ -19,11 +19,8 @@ use foldsim::scenario::Scenario;
 use foldsim::simulate::simulate;
 use std::time::Instant;
 
-fn load() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_default()
-}
+mod common;
+use common::load;
 
 fn structure(kind: &str, n: usize, p: &Params) -> Scenario {
     let text = match kind {

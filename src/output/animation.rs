@@ -194,6 +194,27 @@ struct Bin {
 }
 
 impl Bin {
+    /// Appends `bytes` (4-byte values, so every view stays aligned) as a buffer view.
+    fn view(
+        &mut self,
+        root: &mut json::Root,
+        bytes: impl Iterator<Item = u8>,
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::buffer::View> {
+        let offset = self.data.len();
+        self.data.extend(bytes);
+        root.push(json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: USize64::from(self.data.len() - offset),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            name: None,
+            target: target.map(Valid),
+            extensions: None,
+            extras: Default::default(),
+        })
+    }
+
     /// Appends `values` (4-byte aligned) as a view and an accessor of `count` elements of
     /// `type_`; `bounds` adds min and max (required for positions and animation inputs).
     #[allow(clippy::too_many_arguments)]
@@ -206,18 +227,7 @@ impl Bin {
         target: Option<json::buffer::Target>,
         bounds: bool,
     ) -> json::Index<json::Accessor> {
-        let offset = self.data.len();
-        self.data.extend(values.iter().flat_map(|v| v.to_le_bytes()));
-        let view = root.push(json::buffer::View {
-            buffer: json::Index::new(0),
-            byte_length: USize64::from(values.len() * 4),
-            byte_offset: Some(USize64::from(offset)),
-            byte_stride: None,
-            name: None,
-            target: target.map(Valid),
-            extensions: None,
-            extras: Default::default(),
-        });
+        let view = self.view(root, values.iter().flat_map(|v| v.to_le_bytes()), target);
         let width = values.len() / count.max(1);
         let (min, max) = if bounds {
             let mut lo = vec![f32::INFINITY; width];
@@ -249,18 +259,11 @@ impl Bin {
     }
 
     fn indices(&mut self, root: &mut json::Root, values: &[u32]) -> json::Index<json::Accessor> {
-        let offset = self.data.len();
-        self.data.extend(values.iter().flat_map(|v| v.to_le_bytes()));
-        let view = root.push(json::buffer::View {
-            buffer: json::Index::new(0),
-            byte_length: USize64::from(values.len() * 4),
-            byte_offset: Some(USize64::from(offset)),
-            byte_stride: None,
-            name: None,
-            target: Some(Valid(json::buffer::Target::ElementArrayBuffer)),
-            extensions: None,
-            extras: Default::default(),
-        });
+        let view = self.view(
+            root,
+            values.iter().flat_map(|v| v.to_le_bytes()),
+            Some(json::buffer::Target::ElementArrayBuffer),
+        );
         root.push(json::Accessor {
             buffer_view: Some(view),
             byte_offset: None,

@@ -48,6 +48,29 @@ fn string(s: &str) -> String {
     serde_json::to_string(s).expect("a string").replace("</", "<\\/")
 }
 
+/// `{ "bodies": [...], "values": [[per frame]] }` of the column `{hinge}{suffix}` of every
+/// body's placing tree hinge that the CSV has, at the rows `kept`, through `scale`.
+fn per_body(out: &mut String, model: &Model, table: &Table, kept: &[usize], suffix: &str, scale: fn(f64) -> f64) {
+    let found: Vec<(String, usize)> = model
+        .tree
+        .iter()
+        .filter_map(|e| {
+            let column = table.column(&format!("{}{suffix}", model.hinges[e.hinge].name))?;
+            Some((model.bodies[e.to].name.clone(), column))
+        })
+        .collect();
+    out.push_str("{\"bodies\":[");
+    out.push_str(&found.iter().map(|(b, _)| string(b)).collect::<Vec<_>>().join(","));
+    out.push_str("],\"values\":[");
+    for (k, (_, i)) in found.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        numbers(out, kept.iter().map(|&r| scale(table.rows[r][*i])));
+    }
+    out.push_str("]}");
+}
+
 /// The page for `table` (a run's CSV) of `model`, its animation `frames` taken from the rows
 /// `kept`; `columns` are plotted (empty: a default choice). Fails naming a column it lacks.
 pub fn page(
@@ -89,40 +112,14 @@ pub fn page(
         }
         numbers(&mut data, table.rows.iter().map(|r| r[i]));
     }
-    // Fold angles: per body, the yaw of the tree hinge that places it, in degrees per frame.
-    data.push_str("]},\"fold\":{\"bodies\":[");
-    let mut folds = Vec::new();
-    for e in &model.tree {
-        if let Some(i) = table.column(&format!("{}_yaw", model.hinges[e.hinge].name)) {
-            folds.push((model.bodies[e.to].name.clone(), i));
-        }
-    }
-    data.push_str(&folds.iter().map(|(b, _)| string(b)).collect::<Vec<_>>().join(","));
-    data.push_str("],\"values\":[");
-    for (k, (_, i)) in folds.iter().enumerate() {
-        if k > 0 {
-            data.push(',');
-        }
-        numbers(&mut data, kept.iter().map(|&r| table.rows[r][*i].to_degrees()));
-    }
-    // Fold moments, where the CSV has them (`_M_z`, written on request): per body, the
-    // moment of the tree hinge that places it, N·m per frame.
-    data.push_str("]},\"moment\":{\"bodies\":[");
-    let mut moments = Vec::new();
-    for e in &model.tree {
-        if let Some(i) = table.column(&format!("{}_M_z", model.hinges[e.hinge].name)) {
-            moments.push((model.bodies[e.to].name.clone(), i));
-        }
-    }
-    data.push_str(&moments.iter().map(|(b, _)| string(b)).collect::<Vec<_>>().join(","));
-    data.push_str("],\"values\":[");
-    for (k, (_, i)) in moments.iter().enumerate() {
-        if k > 0 {
-            data.push(',');
-        }
-        numbers(&mut data, kept.iter().map(|&r| table.rows[r][*i]));
-    }
-    data.push_str("]}}");
+    // Per body, the tree hinge that places it: its fold angle (degrees) and, where the CSV
+    // has it (`_M_z`, written on request), its fold moment (N·m), per frame.
+    data.push_str("]},\"fold\":");
+    per_body(&mut data, model, table, kept, "_yaw", f64::to_degrees);
+    data.push_str(",\"moment\":");
+    per_body(&mut data, model, table, kept, "_M_z", |x| x);
+    data.push('}');
+
     // One pass over the template, so nothing inserted is read as a placeholder.
     let mut out = String::with_capacity(TEMPLATE.len() + THREE.len() + VIEWER.len() + data.len());
     let mut rest = TEMPLATE;

@@ -133,8 +133,8 @@ impl Nodes {
 /// A triangle of the sheet and the panel it belongs to (its index among the panels).
 type Triangle = [usize; 3];
 
-/// The largest number of gores and of rings accepted: beyond these the hub's sides or the
-/// panels' aspect make the geometry meaningless in double precision.
+/// The largest number of gores accepted: beyond it the hub's sides and the panels' aspect
+/// make the geometry meaningless in double precision.
 pub const MAX_GORES: usize = 1000;
 
 /// Builds a flasher's nodes, panels and crease kinds, and checks its geometry.
@@ -174,6 +174,8 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
     let mut triangles: Vec<Triangle> = Vec::new();
     let mut quads: Vec<Vec<usize>> = Vec::new();
     let mut ring_quads: Vec<Vec<usize>> = Vec::new();
+    // The edge each Quads panel's two triangles share (its diagonal), as (a, b).
+    let mut diagonals: Vec<(usize, usize)> = Vec::new();
     for k in 0..gores {
         let (v, m, vn) = (|i| nodes.v(k, i), |i| nodes.m(k, i), |i| nodes.v(k + 1, i));
         // The strip between V_k and M_k: a triangle at the hub corner, then planar quads.
@@ -185,6 +187,7 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
             triangles.push([v(i), m(i + 1), m(i)]);
             quads.push(vec![v(i), v(i + 1), m(i + 1), m(i)]);
             ring_quads.push(vec![v(i), v(i + 1), m(i + 1), m(i)]);
+            diagonals.push((v(i), m(i + 1)));
         }
         // The region between M_k and V_k+1.
         triangles.push([m(1), vn(1), m(2)]);
@@ -195,6 +198,7 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
             if i < n {
                 triangles.push([m(i), vn(i), m(i + 1)]);
                 quads.push(vec![vn(i - 1), vn(i), m(i + 1), m(i)]);
+                diagonals.push((m(i), vn(i)));
                 ring_quads.push(vec![m(i), vn(i), vn(i + 1), m(i + 1)]);
             } else {
                 quads.push(vec![vn(i - 1), vn(i), m(i)]);
@@ -208,7 +212,7 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
 
     let hub: Vec<usize> = (0..gores).collect();
     let body_panels = match model {
-        PanelModel::Quads => quads.clone(),
+        PanelModel::Quads => quads,
         PanelModel::RingQuads => ring_quads,
         PanelModel::Triangles => triangles.iter().map(|t| t.to_vec()).collect(),
     };
@@ -227,20 +231,8 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
         }
     }
     if model == PanelModel::Triangles {
-        for q in quads.iter().filter(|q| q.len() == 4) {
-            for t in &triangles {
-                let shared: Vec<usize> = t.iter().copied().filter(|x| q.contains(x)).collect();
-                if shared.len() == 3 {
-                    // The triangle's edge that is not on the quad's outline is its diagonal.
-                    for i in 0..3 {
-                        let (a, b) = (t[i], t[(i + 1) % 3]);
-                        let on_outline = (0..4).any(|j| edge(q[j], q[(j + 1) % 4]) == edge(a, b));
-                        if !on_outline {
-                            kinds.insert(edge(a, b), CreaseKind::Diagonal);
-                        }
-                    }
-                }
-            }
+        for &(a, b) in &diagonals {
+            kinds.insert(edge(a, b), CreaseKind::Diagonal);
         }
     }
     // Senses of the major folds, folded flat (180°) when stowed: mountain along M, valley

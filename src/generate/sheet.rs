@@ -240,15 +240,15 @@ pub fn sheet_scenario(
     let mut queue = VecDeque::from([0]);
     let mut next = 1;
     let mut tree = vec![false; creases.len()];
+    let mut by_panel = vec![Vec::new(); sheet.panels.len()];
+    for (c, &(_, _, p1, p2)) in creases.iter().enumerate() {
+        by_panel[p1].push(c);
+        by_panel[p2].push(c);
+    }
     while let Some(k) = queue.pop_front() {
-        for (c, &(_, _, p1, p2)) in creases.iter().enumerate() {
-            let other = if p1 == k {
-                p2
-            } else if p2 == k {
-                p1
-            } else {
-                continue;
-            };
+        for &c in &by_panel[k] {
+            let (_, _, p1, p2) = creases[c];
+            let other = if p1 == k { p2 } else { p1 };
             if order[other] == usize::MAX {
                 order[other] = next;
                 next += 1;

@@ -14,7 +14,8 @@
 //! relative states, initial conditions) → [`dynamics`] (equations of motion, locks, the
 //! exact Jacobian, the hinge-graph Newton matrix) → [`observe`] (outputs) → [`simulate`]
 //! (a run) → [`scenario`] (TOML files) → [`output`] (CSV, plots) → [`generate`]
-//! (scenario generators). `tests/layers.rs` checks it.
+//! (scenario generators) → [`sweep`] (many runs of a scenario, summarised). `tests/layers.rs`
+//! checks it.
 
 #![warn(missing_docs)]
 
@@ -30,3 +31,4 @@ pub mod output;
 pub mod scenario;
 pub mod simulate;
 pub mod state;
+pub mod sweep;

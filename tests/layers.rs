@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The top-level modules, lowest layer first: each may use only those before it.
-const LAYERS: [&str; 12] = [
+const LAYERS: [&str; 13] = [
     "math",
     "integrate",
     "law",
@@ -25,6 +25,7 @@ const LAYERS: [&str; 12] = [
     "scenario",
     "output",
     "generate",
+    "sweep",
 ];
 
 /// Every `.rs` file under `dir`, sorted.

@@ -5,16 +5,19 @@
 //!
 //! - [`build`]: [`Scenario`], read and checked into a model, initial conditions and settings;
 //! - `raw`: the file's structure as read; `values` and `laws`: its values and hinge laws;
+//! - [`edit`]: [`ScenarioText`], a scenario's values changed by key path before it is built;
 //! - [`error`]: [`ScenarioError`], located by file, line, column and key.
 
 mod bodies;
 pub mod build;
+pub mod edit;
 pub mod error;
 mod laws;
 mod raw;
 mod values;
 
 pub use build::Scenario;
+pub use edit::{ScenarioText, SetValue};
 pub use error::ScenarioError;
 
 #[cfg(test)]

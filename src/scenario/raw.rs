@@ -17,6 +17,10 @@ pub(super) struct RawScenario {
     pub(super) hinges: Vec<RawHinge>,
     #[serde(default)]
     pub(super) initial: RawInitial,
+    /// A sweep's distributions and metrics (read by `crate::sweep`; a run ignores it and
+    /// runs the nominal values).
+    #[allow(dead_code)]
+    pub(super) sweep: Option<toml::Value>,
 }
 
 #[derive(Deserialize)]

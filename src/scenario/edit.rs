@@ -1,0 +1,284 @@
+//! Changing a scenario's values by key path (`hinge.h1.law.k_theta`), keeping the rest of
+//! its text as written, so that errors in the changed scenario still point at the file's own
+//! lines (docs/scenario.md, "Key paths").
+//!
+//! A path is the keys from the top of the file down, joined by dots. Where a key holds a
+//! list of tables (`body`, `hinge`), the next part picks one entry by its `name` (or by its
+//! 0-based position); where it holds a list of values (a vector), the next part is the 0-based
+//! position. The last key may be new (a key the file leaves at its default); every key
+//! before it must exist.
+
+use super::{Scenario, ScenarioError};
+use std::path::{Path, PathBuf};
+use toml_edit::{DocumentMut, Item, Value};
+
+/// A scenario as text that can be changed by key path and then built.
+#[derive(Clone, Debug)]
+pub struct ScenarioText {
+    /// The file name (or label) errors are located in.
+    pub file: String,
+    /// The directory table files are read from.
+    pub base: PathBuf,
+    doc: DocumentMut,
+}
+
+/// A value to set at a key path.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SetValue {
+    /// A number. Written as an integer where the key holds an integer and the number is
+    /// whole, as a float otherwise.
+    Number(f64),
+    /// Any TOML value (a string, a vector, a table), as TOML text (`[1.0, 2.0, 3.0]`).
+    Toml(String),
+}
+
+impl ScenarioText {
+    /// Reads a scenario file's text (not yet checked: see [`ScenarioText::build`]).
+    pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+            file: label.clone(),
+            location: None,
+            message: format!("cannot read the scenario file: {e}"),
+        })?;
+        Self::new(&text, &label, path.parent().unwrap_or(Path::new("")))
+    }
+
+    /// Scenario text labelled `file`, with table files read from `base`. Only the TOML syntax
+    /// is checked here; the scenario itself when built.
+    pub fn new(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
+        match text.parse::<DocumentMut>() {
+            Ok(doc) => Ok(Self { file: file.to_string(), base: base.to_path_buf(), doc }),
+            // The scenario parser words TOML errors for users and locates them: use it.
+            Err(_) => Err(Scenario::from_toml_in(text, file, base).err().unwrap_or_else(|| ScenarioError {
+                file: file.to_string(),
+                location: None,
+                message: "not valid TOML".into(),
+            })),
+        }
+    }
+
+    /// The text as it stands.
+    pub fn text(&self) -> String {
+        self.doc.to_string()
+    }
+
+    /// Checks and builds the scenario.
+    pub fn build(&self) -> Result<Scenario, ScenarioError> {
+        Scenario::from_toml_in(&self.text(), &self.file, &self.base)
+    }
+
+    /// The value at `path`, as TOML text (`None` if no key is there).
+    pub fn get(&self, path: &str) -> Result<Option<String>, String> {
+        let parts = split(path)?;
+        let mut item = self.doc.as_item();
+        for (i, part) in parts.iter().enumerate() {
+            match step(item, part, &parts[..i])? {
+                Some(next) => item = next,
+                None => return Ok(None),
+            }
+        }
+        Ok(item_text(item))
+    }
+
+    /// Sets `path` to `value`. Errors name the path and the part that is wrong, and say what
+    /// the file has there.
+    pub fn set(&mut self, path: &str, value: &SetValue) -> Result<(), String> {
+        let parts = split(path)?;
+        let (last, parents) = parts.split_last().expect("split gives at least one part");
+        let mut item = self.doc.as_item_mut();
+        for (i, part) in parents.iter().enumerate() {
+            item = step_mut(item, part, &parts[..i])?;
+        }
+        let new = |old: Option<&Value>| -> Result<Value, String> {
+            match value {
+                SetValue::Number(x) => {
+                    if !x.is_finite() {
+                        return Err(format!("'{path}': {x} is not a finite number"));
+                    }
+                    let whole = x.fract() == 0.0 && x.abs() < 2f64.powi(53);
+                    Ok(if old.is_some_and(Value::is_integer) && whole {
+                        Value::from(*x as i64)
+                    } else {
+                        Value::from(*x)
+                    })
+                }
+                SetValue::Toml(text) => text
+                    .parse::<Value>()
+                    .map_err(|e| format!("'{path}': '{text}' is not a TOML value: {}", e.message())),
+            }
+        };
+        let decorated = |mut v: Value, old: Option<&Value>| {
+            if let Some(old) = old {
+                *v.decor_mut() = old.decor().clone();
+            }
+            v
+        };
+        let here = format!("'{}'", parents.join("."));
+        if let Some(array) = item.as_array_mut() {
+            let i = index(last, array.len(), path)?;
+            let v = new(array.get(i))?;
+            let v = decorated(v, array.get(i));
+            array.replace(i, v);
+            return Ok(());
+        }
+        let what = kind(item);
+        let table = item.as_table_like_mut().ok_or_else(|| format!("'{path}': {here} holds {what}, not a table"))?;
+        let old = table.get(last).and_then(Item::as_value).cloned();
+        if table.get(last).is_some_and(|i| i.as_value().is_none()) {
+            return Err(format!("'{path}' is a table or a list of tables: give a path down to one of its numbers"));
+        }
+        let v = decorated(new(old.as_ref())?, old.as_ref());
+        table.insert(last, Item::Value(v));
+        Ok(())
+    }
+}
+
+/// The parts of a key path.
+fn split(path: &str) -> Result<Vec<&str>, String> {
+    let parts: Vec<&str> = path.split('.').collect();
+    if parts.iter().any(|p| p.trim().is_empty() || p.trim() != *p) {
+        return Err(format!(
+            "'{path}' is not a key path: give keys joined by dots without spaces, e.g. hinge.h1.law.k_theta"
+        ));
+    }
+    Ok(parts)
+}
+
+fn index(part: &str, len: usize, path: &str) -> Result<usize, String> {
+    match part.parse::<usize>() {
+        Ok(i) if i < len => Ok(i),
+        _ => Err(format!("'{path}': '{part}' must be a position 0 to {} in a list of {len}", len.saturating_sub(1))),
+    }
+}
+
+/// The entry of a list of tables named `part` (its `name` key) or at position `part`.
+fn entry_position<'a>(
+    names: impl Iterator<Item = Option<&'a str>>,
+    part: &str,
+    before: &[&str],
+) -> Result<usize, String> {
+    let names: Vec<Option<&str>> = names.collect();
+    if let Some(i) = names.iter().position(|n| *n == Some(part)) {
+        return Ok(i);
+    }
+    if let Ok(i) = part.parse::<usize>()
+        && i < names.len()
+    {
+        return Ok(i);
+    }
+    let known: Vec<&str> = names.iter().flatten().copied().collect();
+    Err(format!(
+        "'{}' has no entry named '{part}' (names: {}; or a position 0 to {})",
+        before.join("."),
+        if known.is_empty() { "none".to_string() } else { known.join(", ") },
+        names.len().saturating_sub(1)
+    ))
+}
+
+/// One step down from `item` (read only); `None` if the key is absent.
+fn step<'a>(item: &'a Item, part: &str, before: &[&str]) -> Result<Option<&'a Item>, String> {
+    if let Some(tables) = item.as_array_of_tables() {
+        let i = entry_position(tables.iter().map(|t| t.get("name").and_then(Item::as_str)), part, before)?;
+        return Ok(tables.get(i).map(|_| &item[i]));
+    }
+    if let Some(array) = item.as_array() {
+        let i = index(part, array.len(), &before.join("."))?;
+        return Ok(Some(&item[i]));
+    }
+    match item.as_table_like() {
+        Some(t) => Ok(t.get(part)),
+        None => Err(format!("'{}' holds {}, not a table", before.join("."), kind(item))),
+    }
+}
+
+/// One step down from `item`, which must exist.
+fn step_mut<'a>(item: &'a mut Item, part: &str, before: &[&str]) -> Result<&'a mut Item, String> {
+    let at = || if before.is_empty() { "the file".to_string() } else { format!("'{}'", before.join(".")) };
+    if let Some(tables) = item.as_array_of_tables() {
+        let i = entry_position(tables.iter().map(|t| t.get("name").and_then(Item::as_str)), part, before)?;
+        return Ok(&mut item[i]);
+    }
+    if let Some(array) = item.as_array() {
+        let i = index(part, array.len(), &before.join("."))?;
+        return Ok(&mut item[i]);
+    }
+    let Some(table) = item.as_table_like_mut() else {
+        return Err(format!("{} holds a value, not a table", at()));
+    };
+    if table.get(part).is_none() {
+        let keys: Vec<String> = table.iter().map(|(k, _)| k.to_string()).collect();
+        return Err(format!(
+            "{} has no key '{part}' (it has: {}); only the last key of a path may be new",
+            at(),
+            if keys.is_empty() { "nothing".into() } else { keys.join(", ") }
+        ));
+    }
+    Ok(table.get_mut(part).expect("checked above"))
+}
+
+fn item_text(item: &Item) -> Option<String> {
+    match item {
+        Item::None => None,
+        Item::Value(v) => Some(v.clone().decorated("", "").to_string()),
+        other => Some(other.to_string()),
+    }
+}
+
+fn kind(item: &Item) -> &'static str {
+    match item {
+        Item::Value(Value::String(_)) => "a string",
+        Item::Value(Value::Array(_)) => "a list",
+        Item::Table(_) | Item::Value(Value::InlineTable(_)) => "a table",
+        Item::Value(_) => "a value",
+        Item::ArrayOfTables(_) => "a list of tables",
+        Item::None => "nothing",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = "title = \"t\"\n[run]\nduration = 1.0 # s\nmax_steps = 100\n\n[[body]]\nname = \"hub\"\nmass = 5.0\ninertia = [1.0, 2.0, 3.0]\n\n[[hinge]]\nname = \"h1\"\nlaw = { type = \"x\", k_theta = [1.0, 2.0, 3.0] }\n";
+
+    fn doc() -> ScenarioText {
+        ScenarioText::new(TEXT, "t.toml", Path::new("")).unwrap()
+    }
+
+    #[test]
+    fn sets_by_name_position_and_new_last_key_keeping_the_rest_of_the_text() {
+        let mut d = doc();
+        d.set("hinge.h1.law.k_theta.2", &SetValue::Number(7.5)).unwrap();
+        d.set("body.0.mass", &SetValue::Number(6.0)).unwrap();
+        d.set("run.max_steps", &SetValue::Number(200.0)).unwrap();
+        d.set("hinge.h1.law.c_theta", &SetValue::Number(0.25)).unwrap();
+        d.set("run.duration", &SetValue::Number(2.0)).unwrap();
+        let text = d.text();
+        assert!(text.contains("k_theta = [1.0, 2.0, 7.5]"), "{text}");
+        assert!(text.contains("mass = 6.0\n"), "{text}");
+        assert!(text.contains("max_steps = 200\n"), "integer stays an integer: {text}");
+        assert!(text.contains("c_theta = 0.25"), "{text}");
+        assert!(text.contains("duration = 2.0 # s"), "comment kept: {text}");
+        assert_eq!(text.lines().count(), TEXT.lines().count(), "lines kept: errors stay located");
+        assert_eq!(d.get("hinge.h1.law.k_theta.2").unwrap().as_deref(), Some("7.5"));
+        assert_eq!(d.get("hinge.h1.law.c_f").unwrap(), None);
+    }
+
+    #[test]
+    fn bad_paths_say_what_is_there() {
+        let mut d = doc();
+        let e = d.set("hinge.h2.law.k_theta", &SetValue::Number(1.0)).unwrap_err();
+        assert!(e.contains("no entry named 'h2'") && e.contains("h1"), "{e}");
+        let e = d.set("run.nope.x", &SetValue::Number(1.0)).unwrap_err();
+        assert!(e.contains("no key 'nope'") && e.contains("duration"), "{e}");
+        let e = d.set("body.hub.inertia.3", &SetValue::Number(1.0)).unwrap_err();
+        assert!(e.contains("position 0 to 2"), "{e}");
+        let e = d.set("run", &SetValue::Number(1.0)).unwrap_err();
+        assert!(e.contains("table"), "{e}");
+        let e = d.set("run..duration", &SetValue::Number(1.0)).unwrap_err();
+        assert!(e.contains("not a key path"), "{e}");
+        let e = d.set("run.duration", &SetValue::Number(f64::NAN)).unwrap_err();
+        assert!(e.contains("finite"), "{e}");
+    }
+}

@@ -321,19 +321,17 @@ fn main() -> ExitCode {
     }
 }
 
+/// An option's key as the command line spells it: `k_fold` → `--k-fold`.
+fn flag(key: &str) -> String {
+    format!("--{}", key.replace('_', "-"))
+}
+
 fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>) -> Result<(), String> {
-    let max = foldsim::generate::MAX_PANELS;
+    use foldsim::generate::options::{grid_checked, zfold_checked};
     let text = match shape {
-        Shape::Zfold { panels } if (1..=max).contains(&panels) => foldsim::generate::zfold(panels, p),
-        Shape::Grid { rows, cols } if rows >= 2 && cols >= 2 && rows.saturating_mul(cols) <= max => {
-            foldsim::generate::grid(rows, cols, p)
-        }
+        Shape::Zfold { panels } => zfold_checked(panels, p, &flag)?,
+        Shape::Grid { rows, cols } => grid_checked(rows, cols, p, &flag)?,
         Shape::Flasher(_) => unreachable!("flashers are written by generate_flasher"),
-        _ => {
-            return Err(format!(
-                "a z-fold needs 1 ≤ --panels ≤ {max}, a grid --rows ≥ 2 and --cols ≥ 2 with rows × cols ≤ {max}"
-            ));
-        }
     };
     write_scenario(&text, output)
 }
@@ -356,77 +354,38 @@ fn generate_flasher(
     k_translation: f64,
     k_rotation: f64,
     k_fold: f64,
-    mut run: foldsim::generate::RunText,
+    run: foldsim::generate::RunText,
     output: Option<PathBuf>,
 ) -> Result<(), String> {
-    use foldsim::generate::flasher::{FlasherLaws, FlasherShape, PanelModel, flasher_scenario};
-    use foldsim::generate::sheet::SheetParams;
-    let model = match a.panels.as_str() {
-        "ring-quads" => PanelModel::RingQuads,
-        "triangles" => PanelModel::Triangles,
-        _ => PanelModel::Quads,
-    };
-    let positive = |v: f64, what: &str, unit: &str| {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(format!("{what} must be a positive number in {unit}; got {v}"))
-        }
-    };
-    let at_least_zero = |v: f64, what: &str, unit: &str| {
-        if v.is_finite() && v >= 0.0 { Ok(v) } else { Err(format!("{what} must be a number ≥ 0 in {unit}; got {v}")) }
-    };
-    positive(a.areal_density, "--areal-density", "kg/m²")?;
-    positive(a.hub_mass, "--hub-mass", "kg")?;
-    positive(run.duration, "--duration", "s")?;
-    at_least_zero(a.thickness, "--thickness", "m")?;
-    for (v, what, unit) in [
-        (a.c_fold, "--c-fold", "N·m·s/rad"),
-        (a.k_panel_bending, "--k-panel-bending", "N·m/rad"),
-        (a.c_panel_bending, "--c-panel-bending", "N·m·s/rad"),
-        (a.c_translation, "--c-translation", "N·s/m"),
-        (a.c_rotation, "--c-rotation", "N·m·s/rad"),
-        (k_translation, "--k-translation", "N/m"),
-        (k_rotation, "--k-bending", "N·m/rad"),
-        (k_fold, "--k-fold", "N·m/rad"),
-    ] {
-        at_least_zero(v, what, unit)?;
-    }
-    let r = a.hub_radius;
-    let hub_inertia = match &a.hub_inertia {
-        Some(v) => {
-            for (i, &x) in v.iter().enumerate() {
-                positive(x, &format!("--hub-inertia component {}", i + 1), "kg·m²")?;
-            }
-            [v[0], v[1], v[2]]
-        }
-        None => [a.hub_mass * r * r / 4.0, a.hub_mass * r * r / 4.0, a.hub_mass * r * r / 2.0],
-    };
-    run.output_step = a.output_step.unwrap_or(run.duration / 1000.0);
-    positive(run.output_step, "--output-step", "s")?;
-    run.release_at = a.release_at;
-    run.integrator = if a.integrator == "sdirk4" { "sdirk4" } else { "dop853" };
-    let shape = FlasherShape { gores: a.gores, rings: a.rings, hub_radius: r, model };
-    let laws = FlasherLaws {
-        k_fold,
-        c_fold: a.c_fold,
-        k_bending: a.k_panel_bending,
-        c_bending: a.c_panel_bending,
-        k_translation,
-        c_translation: a.c_translation,
-        k_rotation,
-        c_rotation: a.c_rotation,
-    };
-    let params = SheetParams {
-        title: format!("flasher, {} gores, {} rings, {}", a.gores, a.rings, model.name()),
-        areal_density: a.areal_density,
+    use foldsim::generate::flasher::FlasherLaws;
+    use foldsim::generate::options::{FlasherOptions, panel_model};
+    let options = FlasherOptions {
+        gores: a.gores,
+        rings: a.rings,
+        hub_radius: a.hub_radius,
         thickness: a.thickness,
+        areal_density: a.areal_density,
         hub_mass: a.hub_mass,
-        hub_inertia,
+        hub_inertia: a.hub_inertia.as_ref().map(|v| [v[0], v[1], v[2]]),
+        panels: panel_model(&a.panels)?,
+        laws: FlasherLaws {
+            k_fold,
+            c_fold: a.c_fold,
+            k_bending: a.k_panel_bending,
+            c_bending: a.c_panel_bending,
+            k_translation,
+            c_translation: a.c_translation,
+            k_rotation,
+            c_rotation: a.c_rotation,
+        },
         spin_rpm: a.spin_rpm,
-        run,
+        duration: run.duration,
+        output_step: a.output_step,
+        tolerance: run.tolerance,
+        integrator: a.integrator.clone(),
+        release_at: a.release_at,
     };
-    let (text, report) = flasher_scenario(&shape, &laws, &params)?;
+    let (text, report) = options.scenario(&flag)?;
     let summary = report.text(a.all_folds);
     // The command that wrote it (without the output file), then the report, as comments.
     let mut command: Vec<String> = vec!["foldsim".into()];

@@ -6,6 +6,8 @@
 //!   states and its panels (the flasher's builder).
 //! - [`flasher::flasher_scenario`]: a flasher (a disc wrapped round a polygonal hub) from its
 //!   gores and rings, through the sheet builder.
+//! - [`options`]: the generators' options, defaults and checks, shared by the command line
+//!   and the Python package.
 //! - [`grid()`]: an R × C grid of panels, each hinged to its neighbours along both grid
 //!   directions, the corner panel to the hub: (R−1)(C−1) hinges close loops.
 //!
@@ -14,6 +16,7 @@
 
 pub mod flasher;
 pub mod grid;
+pub mod options;
 pub mod params;
 pub mod sheet;
 pub mod zfold;

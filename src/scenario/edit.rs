@@ -68,6 +68,11 @@ impl ScenarioText {
         Scenario::from_toml_in(&self.text(), &self.file, &self.base)
     }
 
+    /// Replaces (or adds) the top-level table `key` (a sweep's `[sweep]`, say).
+    pub fn set_table(&mut self, key: &str, table: toml_edit::Table) {
+        self.doc.insert(key, Item::Table(table));
+    }
+
     /// The value at `path`, as TOML text (`None` if no key is there).
     pub fn get(&self, path: &str) -> Result<Option<String>, String> {
         let parts = split(path)?;

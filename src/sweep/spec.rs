@@ -118,7 +118,7 @@ pub fn read(text: &str, file: &str) -> Result<Option<SweepSpec>, ScenarioError> 
             ));
         }
     }
-    let whole = |key: &str| -> Result<Option<(i64, Option<Range<usize>>)>, ScenarioError> {
+    let whole = |key: &str| -> Result<Option<Located<i64>>, ScenarioError> {
         match table.get(key) {
             None => Ok(None),
             Some(item) => match item.as_integer() {
@@ -203,6 +203,9 @@ pub fn read(text: &str, file: &str) -> Result<Option<SweepSpec>, ScenarioError> 
     };
     Ok(Some(SweepSpec { runs, seed, parameters, metrics }))
 }
+
+/// A value and where it is in the text.
+type Located<T> = (T, Option<Range<usize>>);
 
 fn span_of(item: &Item) -> Option<Range<usize>> {
     item.span().or_else(|| item.as_value().and_then(Value::span))

@@ -7,19 +7,26 @@
     r.report["steps_accepted"]  # the run report as Python values
     r.to_pandas()               # a DataFrame, when pandas is installed
 
-Work in progress: sweeps and Dask come next.
+    s2 = s.with_values({"hinge.h1.law.k_theta": 2.0})    # change any value by key path
+    d = foldsim.from_dict({...})                          # a scenario file's structure as a dict
+    z = foldsim.generate.zfold(8, k_fold=2.0)             # the generators
+    table = foldsim.sweep("examples/sweep-paper-1panel.toml")   # a DataFrame, one row per run
+    table = foldsim.sweep(s, client=dask_client)          # the same table from a Dask cluster
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from . import generate
 from ._foldsim import Scenario as _Scenario
 from ._foldsim import __version__
+from .sweeps import sweep
 
-__all__ = ["Result", "Scenario", "load", "from_toml", "__version__"]
+__all__ = ["Result", "Scenario", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
 
 
 class Result:
@@ -66,16 +73,44 @@ class Scenario:
 
     @property
     def bodies(self) -> list[str]:
+        """Body names, hub first."""
         return self._native.bodies
 
     @property
     def hinges(self) -> list[str]:
+        """Hinge names."""
         return self._native.hinges
+
+    @property
+    def text(self) -> str:
+        """The scenario as TOML text (what a file of it holds)."""
+        return self._native.text
+
+    @property
+    def warnings(self) -> list[str]:
+        """Values that are valid but probably not meant."""
+        return self._native.warnings
+
+    def get(self, path: str) -> Any:
+        """The value at a key path such as ``hinge.h1.law.k_theta`` (None if left out)."""
+        return self._native.get(path)
+
+    def with_values(self, changes: dict[str, Any] | None = None, **kwargs: Any) -> "Scenario":
+        """A copy with values changed by key path, checked as a file would be:
+        ``s.with_values({"hinge.h1.law.k_theta": 2.0, "run.duration": 5.0})``."""
+        return Scenario(self._native.with_values({**(changes or {}), **kwargs}))
+
+    def save(self, path: str | Path) -> None:
+        """Writes the scenario as a TOML file."""
+        Path(path).write_text(self.text)
 
     def run(self, columns: list[str] | None = None) -> Result:
         """Runs the scenario; `columns` are names or patterns as `run.columns` takes them."""
         names, arrays, report = self._native.run(columns)
         return Result(names, arrays, report)
+
+    def __repr__(self) -> str:
+        return f"<foldsim.Scenario {self.title!r}: {len(self.bodies)} bodies, {len(self.hinges)} hinges>"
 
 
 def load(path: str | Path) -> Scenario:
@@ -86,3 +121,10 @@ def load(path: str | Path) -> Scenario:
 def from_toml(text: str, name: str = "scenario", base: str | Path | None = None) -> Scenario:
     """Reads a scenario from TOML text; table files are read relative to `base`."""
     return Scenario(_Scenario.from_toml(text, name, None if base is None else str(base)))
+
+
+def from_dict(d: dict, name: str = "scenario dict", base: str | Path | None = None) -> Scenario:
+    """Builds a scenario from a dict with a scenario file's structure: ``{"run": {...},
+    "body": [{...}, ...], "hinge": [{...}, ...], "initial": {...}}``. Errors (ValueError) name
+    the key path."""
+    return Scenario(_Scenario.from_dict(d, name, None if base is None else str(base)))

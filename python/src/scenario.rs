@@ -1,0 +1,239 @@
+//! `foldsim._foldsim.Scenario`: a scenario read from a file, TOML text or a dict, changed by
+//! key path, and run with the GIL released.
+
+use crate::convert;
+use foldsim::observe::{Observation, Selection, row};
+use foldsim::scenario::{ScenarioError, ScenarioText, SetValue};
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyFloat, PyInt};
+use std::path::PathBuf;
+
+/// What `run` returns to Python: column names, one array per column, the report.
+type RunOutput<'py> = (Vec<String>, Vec<Bound<'py, PyArray1<f64>>>, Bound<'py, PyDict>);
+
+/// A scenario: a structure, its initial state and run settings (docs/scenario.md).
+#[pyclass(module = "foldsim._foldsim")]
+#[derive(Clone)]
+pub struct Scenario {
+    pub(crate) text: ScenarioText,
+    pub(crate) inner: std::sync::Arc<foldsim::scenario::Scenario>,
+    /// Made from a dict: errors are located by key path, not by line of text nobody wrote.
+    from_dict: bool,
+}
+
+impl Scenario {
+    /// Builds generated scenario text (labelled `name`, tables relative to the current
+    /// directory).
+    pub(crate) fn from_toml_text(text: &str, name: &str) -> PyResult<Self> {
+        let text = ScenarioText::new(text, name, std::path::Path::new("."))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Self::build(text, false)
+    }
+
+    fn build(text: ScenarioText, from_dict: bool) -> PyResult<Self> {
+        match text.build() {
+            Ok(inner) => Ok(Self { text, inner: inner.into(), from_dict }),
+            Err(e) => Err(error(&text, from_dict, e)),
+        }
+    }
+}
+
+/// A scenario error as ValueError: located by file and line, or (for a dict) by key path.
+fn error(text: &ScenarioText, from_dict: bool, e: ScenarioError) -> PyErr {
+    match (from_dict, e.location) {
+        (true, Some((line, _))) => {
+            let at = convert::path_at_line(&text.text(), line);
+            PyValueError::new_err(format!("{} at {at}: {}", e.file, e.message))
+        }
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// A Python value to set at a key path: a number as a number, anything else as TOML.
+fn set_value(value: &Bound<'_, PyAny>, path: &str) -> PyResult<SetValue> {
+    if value.is_instance_of::<PyFloat>()
+        || value.is_instance_of::<PyInt>() && !value.is_instance_of::<pyo3::types::PyBool>()
+    {
+        return Ok(SetValue::Number(value.extract()?));
+    }
+    let v = convert::value(value, path)?;
+    Ok(SetValue::Toml(v.to_string()))
+}
+
+#[pymethods]
+impl Scenario {
+    /// Reads a scenario file; a bad file raises ValueError naming the file, line and key.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        let text = ScenarioText::from_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let mut s = Self::build(text, false)?;
+        // As the command line does: run.csv relative to the file, the file among the inputs.
+        let inner = std::sync::Arc::get_mut(&mut s.inner).expect("just built");
+        let base = path.parent().unwrap_or(std::path::Path::new(""));
+        inner.csv = inner.csv.take().map(|c| base.join(c));
+        inner.inputs.insert(0, path);
+        Ok(s)
+    }
+
+    /// Reads a scenario from TOML text; `name` stands for the file in messages, `base` is the
+    /// directory table files are read from.
+    #[staticmethod]
+    #[pyo3(signature = (text, name = "scenario", base = None))]
+    fn from_toml(text: &str, name: &str, base: Option<PathBuf>) -> PyResult<Self> {
+        let base = base.unwrap_or_else(|| PathBuf::from("."));
+        let text = ScenarioText::new(text, name, &base).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Self::build(text, false)
+    }
+
+    /// Builds a scenario from a dict with a scenario file's structure (lists of dicts for
+    /// `body` and `hinge`); errors name the key path.
+    #[staticmethod]
+    #[pyo3(signature = (d, name = "scenario dict", base = None))]
+    fn from_dict(d: &Bound<'_, PyDict>, name: &str, base: Option<PathBuf>) -> PyResult<Self> {
+        let doc = convert::document(d)?;
+        let base = base.unwrap_or_else(|| PathBuf::from("."));
+        let text =
+            ScenarioText::new(&doc.to_string(), name, &base).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Self::build(text, true)
+    }
+
+    /// The scenario as TOML text (what a file of it would hold).
+    #[getter]
+    fn text(&self) -> String {
+        self.text.text()
+    }
+
+    /// The file name (or label) messages use.
+    #[getter]
+    fn name(&self) -> String {
+        self.text.file.clone()
+    }
+
+    /// The directory table files are read from.
+    #[getter]
+    fn base(&self) -> PathBuf {
+        self.text.base.clone()
+    }
+
+    /// The value at a key path (`hinge.h1.law.k_theta`), or None if the file leaves it out.
+    fn get<'py>(&self, py: Python<'py>, path: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(text) = self.text.get(path).map_err(PyValueError::new_err)? else { return Ok(None) };
+        match text.parse::<toml_edit::Value>() {
+            Ok(v) => convert::to_python(py, &v).map(Some),
+            // A table: give it as text.
+            Err(_) => Ok(Some(text.into_pyobject(py)?.into_any())),
+        }
+    }
+
+    /// A copy with the values of `changes` ({key path: value}) set and checked.
+    fn with_values(&self, changes: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let mut text = self.text.clone();
+        for (k, v) in changes.iter() {
+            let path: String = k.extract()?;
+            text.set(&path, &set_value(&v, &path)?).map_err(PyValueError::new_err)?;
+        }
+        Self::build(text, self.from_dict)
+    }
+
+    /// The scenario's title.
+    #[getter]
+    fn title(&self) -> Option<String> {
+        self.inner.title.clone()
+    }
+
+    /// Names of the bodies, hub first.
+    #[getter]
+    fn bodies(&self) -> Vec<String> {
+        self.inner.model.bodies.iter().map(|b| b.name.clone()).collect()
+    }
+
+    /// Names of the hinges.
+    #[getter]
+    fn hinges(&self) -> Vec<String> {
+        self.inner.model.hinges.iter().map(|h| h.name.clone()).collect()
+    }
+
+    /// Warnings about values that are valid but probably not meant.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings.clone()
+    }
+
+    /// Runs the scenario with the GIL released. `columns`: names or patterns as `run.columns`
+    /// takes them (default: the scenario's). Returns (names, arrays, report). Ctrl-C stops
+    /// the run with KeyboardInterrupt.
+    #[pyo3(signature = (columns = None))]
+    fn run<'py>(&self, py: Python<'py>, columns: Option<Vec<String>>) -> PyResult<RunOutput<'py>> {
+        let s = &self.inner;
+        let selection = match columns {
+            Some(patterns) => Selection::matching(&s.model, &patterns).map_err(PyValueError::new_err)?,
+            None => s.columns.clone(),
+        };
+        let width = selection.indices.len();
+        let result = py.detach(|| {
+            let mut values: Vec<Vec<f64>> = vec![Vec::new(); width];
+            let mut sink = |o: &Observation| -> Result<(), String> {
+                let r = row(o);
+                for (k, &i) in selection.indices.iter().enumerate() {
+                    values[k].push(r[i]);
+                }
+                Ok(())
+            };
+            let mut progress = crate::interrupt_check();
+            foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, Some(&mut progress))
+                .map(|report| (values, report))
+        });
+        let (values, report) = match result {
+            Ok(v) => v,
+            Err(foldsim::simulate::SimError::Interrupted { t }) => {
+                return Err(PyKeyboardInterrupt::new_err(format!("interrupted at t = {t} s")));
+            }
+            Err(e) => return Err(PyRuntimeError::new_err(e.to_string())),
+        };
+        let arrays = values.into_iter().map(|v| v.into_pyarray(py)).collect();
+        let d = PyDict::new(py);
+        let drift = &report.drift;
+        d.set_item("simulated", report.simulated)?;
+        d.set_item("wall_seconds", report.wall_seconds)?;
+        d.set_item("steps_accepted", report.steps_accepted)?;
+        d.set_item("steps_rejected", report.steps_rejected)?;
+        d.set_item("rhs_evaluations", report.rhs_evaluations)?;
+        d.set_item("newton_iterations", report.newton_iterations)?;
+        d.set_item("jacobians", report.jacobians)?;
+        d.set_item("rows", report.rows)?;
+        d.set_item("momentum_drift", drift.momentum)?;
+        d.set_item("angular_momentum_drift", drift.angular_momentum)?;
+        d.set_item("barycenter_drift", drift.barycenter)?;
+        d.set_item("energy_drift", drift.energy)?;
+        d.set_item("energy_initial", drift.energy_initial)?;
+        d.set_item("dissipated", drift.dissipated)?;
+        d.set_item("energy_balance", drift.energy_balance)?;
+        d.set_item("energy_conserving", report.energy_conserving)?;
+        d.set_item("released_at", report.released_at)?;
+        d.set_item("deployed_90", report.deployed_90)?;
+        let hinge = |i: usize| s.model.hinges[i].name.clone();
+        let events: Vec<(f64, String, String, String)> = report
+            .events
+            .iter()
+            .map(|e| (e.t, hinge(e.hinge), format!("{:?}", e.kind), e.description.clone()))
+            .collect();
+        d.set_item("events", events)?;
+        let latches: Vec<(f64, String)> = report
+            .events
+            .iter()
+            .filter(|e| e.kind == foldsim::law::EventKind::Latch)
+            .map(|e| (e.t, hinge(e.hinge)))
+            .collect();
+        d.set_item("latches", latches)?;
+        let directions = foldsim::law::directional::DIRECTION_NAMES;
+        let locks: Vec<(f64, String, String)> = report
+            .lock_engagements
+            .iter()
+            .map(|(l, t)| (*t, hinge(l.hinge), directions[l.direction].to_string()))
+            .collect();
+        d.set_item("lock_engagements", locks)?;
+        Ok((selection.names.clone(), arrays, d))
+    }
+}

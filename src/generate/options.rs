@@ -1,0 +1,208 @@
+//! The generators' options with their defaults and checks, as the command line and the Python
+//! package take them (`foldsim generate …`, `foldsim.generate.…`): one place that says what
+//! each may be.
+
+use super::flasher::{FlasherLaws, FlasherReport, FlasherShape, PanelModel, flasher_scenario};
+use super::params::{MAX_PANELS, Params, RunText};
+use super::sheet::SheetParams;
+
+/// A positive finite number, or an error naming the option (`name` turns an option's key
+/// into the caller's spelling: `--k-fold` on the command line, `k_fold` in Python).
+fn positive(v: f64, key: &str, unit: &str, name: &dyn Fn(&str) -> String) -> Result<f64, String> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{} must be a positive number in {unit}; got {v}", name(key)))
+    }
+}
+
+fn at_least_zero(v: f64, key: &str, unit: &str, name: &dyn Fn(&str) -> String) -> Result<f64, String> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{} must be a number ≥ 0 in {unit}; got {v}", name(key)))
+    }
+}
+
+impl Params {
+    /// Checks every value (positive masses, lengths, times and tolerance; stiffnesses ≥ 0).
+    pub fn check(&self, name: &dyn Fn(&str) -> String) -> Result<(), String> {
+        positive(self.panel_mass, "panel_mass", "kg", name)?;
+        positive(self.panel_length, "panel_length", "m", name)?;
+        positive(self.panel_width, "panel_width", "m", name)?;
+        positive(self.duration, "duration", "s", name)?;
+        positive(self.output_step, "output_step", "s", name)?;
+        positive(self.tolerance, "tolerance", "(relative)", name)?;
+        at_least_zero(self.k_translation, "k_translation", "N/m", name)?;
+        at_least_zero(self.k_bending, "k_bending", "N·m/rad", name)?;
+        at_least_zero(self.k_fold, "k_fold", "N·m/rad", name)?;
+        if !self.fold_deg.is_finite() {
+            return Err(format!("{} must be a finite angle in degrees", name("fold_deg")));
+        }
+        Ok(())
+    }
+}
+
+/// A z-fold's scenario text, its size and values checked.
+pub fn zfold_checked(panels: usize, p: &Params, name: &dyn Fn(&str) -> String) -> Result<String, String> {
+    p.check(name)?;
+    if !(1..=MAX_PANELS).contains(&panels) {
+        return Err(format!("a z-fold needs 1 ≤ {} ≤ {MAX_PANELS}; got {panels}", name("panels")));
+    }
+    Ok(super::zfold(panels, p))
+}
+
+/// A grid's scenario text, its size and values checked.
+pub fn grid_checked(rows: usize, cols: usize, p: &Params, name: &dyn Fn(&str) -> String) -> Result<String, String> {
+    p.check(name)?;
+    if rows < 2 || cols < 2 || rows.saturating_mul(cols) > MAX_PANELS {
+        return Err(format!(
+            "a grid needs {} ≥ 2 and {} ≥ 2 with rows × cols ≤ {MAX_PANELS}; got {rows} × {cols}",
+            name("rows"),
+            name("cols")
+        ));
+    }
+    Ok(super::grid(rows, cols, p))
+}
+
+/// Everything that makes a flasher scenario, with the command line's defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlasherOptions {
+    /// Number of gores N (sides of the hub), ≥ 3.
+    pub gores: usize,
+    /// Rings of panels, ≥ 1.
+    pub rings: usize,
+    /// Hub circumradius, m.
+    pub hub_radius: f64,
+    /// Panel thickness, m (mass properties and shapes).
+    pub thickness: f64,
+    /// Mass per unit area of the panels, kg/m².
+    pub areal_density: f64,
+    /// Hub mass, kg.
+    pub hub_mass: f64,
+    /// Hub principal inertia about its centroid (x, y in its plane, z its axis), kg·m²;
+    /// `None`: a uniform disc of the hub's radius and mass.
+    pub hub_inertia: Option<[f64; 3]>,
+    /// Panel model.
+    pub panels: PanelModel,
+    /// Stiffness and damping per crease kind.
+    pub laws: FlasherLaws,
+    /// Initial hub spin about its axis, rev/min.
+    pub spin_rpm: f64,
+    /// Simulated time, s.
+    pub duration: f64,
+    /// Output step, s (`None`: duration / 1000).
+    pub output_step: Option<f64>,
+    /// Integrator tolerance (rtol = atol).
+    pub tolerance: f64,
+    /// `dop853` or `sdirk4`.
+    pub integrator: String,
+    /// Hold the stowed state until this time, s.
+    pub release_at: Option<f64>,
+}
+
+impl Default for FlasherOptions {
+    fn default() -> Self {
+        Self {
+            gores: 6,
+            rings: 3,
+            hub_radius: 1.0,
+            thickness: 0.0,
+            areal_density: 1.0,
+            hub_mass: 100.0,
+            hub_inertia: None,
+            panels: PanelModel::Triangles,
+            laws: FlasherLaws {
+                k_fold: 1.0,
+                c_fold: 0.0,
+                k_bending: 1e3,
+                c_bending: 0.0,
+                k_translation: 1e6,
+                c_translation: 0.0,
+                k_rotation: 1e3,
+                c_rotation: 0.0,
+            },
+            spin_rpm: 0.0,
+            duration: 10.0,
+            output_step: None,
+            tolerance: 1e-8,
+            integrator: "dop853".into(),
+            release_at: None,
+        }
+    }
+}
+
+impl FlasherOptions {
+    /// Checks the options and writes the scenario text and the generator's report. `name`
+    /// spells an option's key as the caller takes it (`--k-fold` or `k_fold`).
+    pub fn scenario(&self, name: &dyn Fn(&str) -> String) -> Result<(String, FlasherReport), String> {
+        positive(self.areal_density, "areal_density", "kg/m²", name)?;
+        positive(self.hub_mass, "hub_mass", "kg", name)?;
+        positive(self.duration, "duration", "s", name)?;
+        positive(self.tolerance, "tolerance", "(relative)", name)?;
+        at_least_zero(self.thickness, "thickness", "m", name)?;
+        if !self.spin_rpm.is_finite() {
+            return Err(format!("{} must be a finite number in rev/min", name("spin_rpm")));
+        }
+        let l = &self.laws;
+        for (v, key, unit) in [
+            (l.c_fold, "c_fold", "N·m·s/rad"),
+            (l.k_bending, "k_panel_bending", "N·m/rad"),
+            (l.c_bending, "c_panel_bending", "N·m·s/rad"),
+            (l.c_translation, "c_translation", "N·s/m"),
+            (l.c_rotation, "c_rotation", "N·m·s/rad"),
+            (l.k_translation, "k_translation", "N/m"),
+            (l.k_rotation, "k_bending", "N·m/rad"),
+            (l.k_fold, "k_fold", "N·m/rad"),
+        ] {
+            at_least_zero(v, key, unit, name)?;
+        }
+        let r = self.hub_radius;
+        let hub_inertia = match self.hub_inertia {
+            Some(v) => {
+                for (i, &x) in v.iter().enumerate() {
+                    positive(x, &format!("hub_inertia component {}", i + 1), "kg·m²", name)?;
+                }
+                v
+            }
+            None => [self.hub_mass * r * r / 4.0, self.hub_mass * r * r / 4.0, self.hub_mass * r * r / 2.0],
+        };
+        let output_step = positive(self.output_step.unwrap_or(self.duration / 1000.0), "output_step", "s", name)?;
+        if let Some(t) = self.release_at {
+            at_least_zero(t, "release_at", "s", name)?;
+        }
+        let integrator = match self.integrator.as_str() {
+            "dop853" => "dop853",
+            "sdirk4" => "sdirk4",
+            other => return Err(format!("{} must be dop853 or sdirk4; got '{other}'", name("integrator"))),
+        };
+        let run = RunText {
+            duration: self.duration,
+            output_step,
+            tolerance: self.tolerance,
+            integrator,
+            release_at: self.release_at,
+        };
+        let shape = FlasherShape { gores: self.gores, rings: self.rings, hub_radius: r, model: self.panels };
+        let params = SheetParams {
+            title: format!("flasher, {} gores, {} rings, {}", self.gores, self.rings, self.panels.name()),
+            areal_density: self.areal_density,
+            thickness: self.thickness,
+            hub_mass: self.hub_mass,
+            hub_inertia,
+            spin_rpm: self.spin_rpm,
+            run,
+        };
+        flasher_scenario(&shape, &self.laws, &params)
+    }
+}
+
+/// The panel model named `name` (`triangles`, `quads`, `ring-quads`).
+pub fn panel_model(name: &str) -> Result<PanelModel, String> {
+    match name {
+        "triangles" => Ok(PanelModel::Triangles),
+        "quads" => Ok(PanelModel::Quads),
+        "ring-quads" => Ok(PanelModel::RingQuads),
+        other => Err(format!("panel model '{other}': give triangles, quads or ring-quads")),
+    }
+}

@@ -362,8 +362,9 @@ impl Selection {
 }
 
 /// Whether `name` matches `pattern` (`*`: any run of characters, `?`: one character).
-/// Column names are ASCII (letters, digits, `_`, `-`), so bytes are characters.
-fn glob(pattern: &str, name: &str) -> bool {
+/// Compared byte by byte: `?` is one character for ASCII names (column names are ASCII;
+/// body and hinge names matched this way should be too).
+pub fn glob(pattern: &str, name: &str) -> bool {
     let (p, n) = (pattern.as_bytes(), name.as_bytes());
     // Iterative matching with backtracking to the last star.
     let (mut i, mut j, mut star, mut mark) = (0, 0, None, 0);

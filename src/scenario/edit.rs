@@ -86,57 +86,96 @@ impl ScenarioText {
         Ok(item_text(item))
     }
 
-    /// Sets `path` to `value`. Errors name the path and the part that is wrong, and say what
-    /// the file has there.
+    /// Sets `path` to `value`. A part naming list entries may hold `*` and `?`
+    /// (`hinge.*.law.k_theta.2`): every entry whose name matches is set, and at least one
+    /// must. Errors name the path and the part that is wrong, and say what the file has
+    /// there.
     pub fn set(&mut self, path: &str, value: &SetValue) -> Result<(), String> {
         let parts = split(path)?;
-        let (last, parents) = parts.split_last().expect("split gives at least one part");
-        let mut item = self.doc.as_item_mut();
-        for (i, part) in parents.iter().enumerate() {
-            item = step_mut(item, part, &parts[..i])?;
-        }
-        let new = |old: Option<&Value>| -> Result<Value, String> {
-            match value {
-                SetValue::Number(x) => {
-                    if !x.is_finite() {
-                        return Err(format!("'{path}': {x} is not a finite number"));
-                    }
-                    let whole = x.fract() == 0.0 && x.abs() < 2f64.powi(53);
-                    Ok(if old.is_some_and(Value::is_integer) && whole {
-                        Value::from(*x as i64)
-                    } else {
-                        Value::from(*x)
-                    })
-                }
-                SetValue::Toml(text) => text
-                    .parse::<Value>()
-                    .map_err(|e| format!("'{path}': '{text}' is not a TOML value: {}", e.message())),
-            }
-        };
-        let decorated = |mut v: Value, old: Option<&Value>| {
-            if let Some(old) = old {
-                *v.decor_mut() = old.decor().clone();
-            }
-            v
-        };
-        let here = format!("'{}'", parents.join("."));
-        if let Some(array) = item.as_array_mut() {
-            let i = index(last, array.len(), path)?;
-            let v = new(array.get(i))?;
-            let v = decorated(v, array.get(i));
-            array.replace(i, v);
-            return Ok(());
-        }
-        let what = kind(item);
-        let table = item.as_table_like_mut().ok_or_else(|| format!("'{path}': {here} holds {what}, not a table"))?;
-        let old = table.get(last).and_then(Item::as_value).cloned();
-        if table.get(last).is_some_and(|i| i.as_value().is_none()) {
-            return Err(format!("'{path}' is a table or a list of tables: give a path down to one of its numbers"));
-        }
-        let v = decorated(new(old.as_ref())?, old.as_ref());
-        table.insert(last, Item::Value(v));
-        Ok(())
+        set_in(self.doc.as_item_mut(), &parts, 0, path, value).map(|_| ())
     }
+}
+
+/// Sets `parts[at..]` below `item` (which `parts[..at]` led to); returns how many values
+/// were set.
+fn set_in(item: &mut Item, parts: &[&str], at: usize, path: &str, value: &SetValue) -> Result<usize, String> {
+    let part = parts[at];
+    let before = &parts[..at];
+    if at + 1 < parts.len() {
+        if part.contains(['*', '?'])
+            && let Some(tables) = item.as_array_of_tables_mut()
+        {
+            let mut count = 0;
+            for entry in tables.iter_mut() {
+                if entry.get("name").and_then(Item::as_str).is_some_and(|n| crate::observe::glob(part, n)) {
+                    count += set_table_in(entry, parts, at + 1, path, value)?;
+                }
+            }
+            if count == 0 {
+                return Err(format!("'{path}': no entry of '{}' has a name matching '{part}'", before.join(".")));
+            }
+            return Ok(count);
+        }
+        let next = step_mut(item, part, before)?;
+        return set_in(next, parts, at + 1, path, value);
+    }
+    set_last(item, part, before, path, value).map(|_| 1)
+}
+
+/// As [`set_in`], from a list entry's table.
+fn set_table_in(t: &mut toml_edit::Table, parts: &[&str], at: usize, path: &str, value: &SetValue) -> Result<usize, String> {
+    let part = parts[at];
+    if at + 1 == parts.len() {
+        let mut item = Item::Table(std::mem::take(t));
+        let r = set_last(&mut item, part, &parts[..at], path, value);
+        *t = item.into_table().expect("put in as a table");
+        return r.map(|_| 1);
+    }
+    match t.get_mut(part) {
+        Some(next) => set_in(next, parts, at + 1, path, value),
+        None => Err(format!("'{path}': an entry of '{}' has no key '{part}'", parts[..at - 1].join("."))),
+    }
+}
+
+/// Sets key (or position) `last` of `item` to `value`.
+fn set_last(item: &mut Item, last: &str, parents: &[&str], path: &str, value: &SetValue) -> Result<(), String> {
+    let new = |old: Option<&Value>| -> Result<Value, String> {
+        match value {
+            SetValue::Number(x) => {
+                if !x.is_finite() {
+                    return Err(format!("'{path}': {x} is not a finite number"));
+                }
+                let whole = x.fract() == 0.0 && x.abs() < 2f64.powi(53);
+                Ok(if old.is_some_and(Value::is_integer) && whole { Value::from(*x as i64) } else { Value::from(*x) })
+            }
+            SetValue::Toml(text) => {
+                text.parse::<Value>().map_err(|e| format!("'{path}': '{text}' is not a TOML value: {}", e.message()))
+            }
+        }
+    };
+    let decorated = |mut v: Value, old: Option<&Value>| {
+        if let Some(old) = old {
+            *v.decor_mut() = old.decor().clone();
+        }
+        v
+    };
+    let here = format!("'{}'", parents.join("."));
+    if let Some(array) = item.as_array_mut() {
+        let i = index(last, array.len(), path)?;
+        let v = new(array.get(i))?;
+        let v = decorated(v, array.get(i));
+        array.replace(i, v);
+        return Ok(());
+    }
+    let what = kind(item);
+    let table = item.as_table_like_mut().ok_or_else(|| format!("'{path}': {here} holds {what}, not a table"))?;
+    let old = table.get(last).and_then(Item::as_value).cloned();
+    if table.get(last).is_some_and(|i| i.as_value().is_none()) {
+        return Err(format!("'{path}' is a table or a list of tables: give a path down to one of its numbers"));
+    }
+    let v = decorated(new(old.as_ref())?, old.as_ref());
+    table.insert(last, Item::Value(v));
+    Ok(())
 }
 
 /// The parts of a key path.
@@ -268,6 +307,20 @@ mod tests {
         assert_eq!(text.lines().count(), TEXT.lines().count(), "lines kept: errors stay located");
         assert_eq!(d.get("hinge.h1.law.k_theta.2").unwrap().as_deref(), Some("7.5"));
         assert_eq!(d.get("hinge.h1.law.c_f").unwrap(), None);
+    }
+
+    #[test]
+    fn a_wildcard_sets_every_matching_entry() {
+        let text = format!("{TEXT}\n[[hinge]]\nname = \"h2\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n\n[[hinge]]\nname = \"g\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n");
+        let mut d = ScenarioText::new(&text, "t.toml", Path::new("")).unwrap();
+        d.set("hinge.h*.law.k_theta.2", &SetValue::Number(9.0)).unwrap();
+        assert_eq!(d.get("hinge.h1.law.k_theta.2").unwrap().as_deref(), Some("9.0"));
+        assert_eq!(d.get("hinge.h2.law.k_theta.2").unwrap().as_deref(), Some("9.0"));
+        assert_eq!(d.get("hinge.g.law.k_theta.2").unwrap().as_deref(), Some("3.0"), "not matched");
+        d.set("hinge.*.law.c_f", &SetValue::Number(0.5)).unwrap();
+        assert_eq!(d.get("hinge.g.law.c_f").unwrap().as_deref(), Some("0.5"));
+        let e = d.set("hinge.x*.law.k_f", &SetValue::Number(1.0)).unwrap_err();
+        assert!(e.contains("no entry of 'hinge' has a name matching 'x*'"), "{e}");
     }
 
     #[test]

@@ -123,7 +123,13 @@ fn set_in(item: &mut Item, parts: &[&str], at: usize, path: &str, value: &SetVal
 }
 
 /// As [`set_in`], from a list entry's table.
-fn set_table_in(t: &mut toml_edit::Table, parts: &[&str], at: usize, path: &str, value: &SetValue) -> Result<usize, String> {
+fn set_table_in(
+    t: &mut toml_edit::Table,
+    parts: &[&str],
+    at: usize,
+    path: &str,
+    value: &SetValue,
+) -> Result<usize, String> {
     let part = parts[at];
     if at + 1 == parts.len() {
         let mut item = Item::Table(std::mem::take(t));
@@ -311,7 +317,9 @@ mod tests {
 
     #[test]
     fn a_wildcard_sets_every_matching_entry() {
-        let text = format!("{TEXT}\n[[hinge]]\nname = \"h2\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n\n[[hinge]]\nname = \"g\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n");
+        let text = format!(
+            "{TEXT}\n[[hinge]]\nname = \"h2\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n\n[[hinge]]\nname = \"g\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n"
+        );
         let mut d = ScenarioText::new(&text, "t.toml", Path::new("")).unwrap();
         d.set("hinge.h*.law.k_theta.2", &SetValue::Number(9.0)).unwrap();
         assert_eq!(d.get("hinge.h1.law.k_theta.2").unwrap().as_deref(), Some("9.0"));

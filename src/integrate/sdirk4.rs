@@ -51,7 +51,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut fresh_jacobian = true;
     stats.jacobians += 1;
     if !newton.prepare(t, &y, &f0, h * GAMMA) {
-        return Err(OdeError::StepTooSmall { t, h, non_finite: false, y: y.to_vec() });
+        return Err(OdeError::SingularNewton { t, h });
     }
     let mut prepared_h = h;
     let mut z: Vec<Vec<f64>> = vec![vec![0.0; n]; 5];
@@ -77,7 +77,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
         }
         if (h - prepared_h).abs() > 1e-12 * h && !stats.refactor(&mut *newton, h * GAMMA) {
-            return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
+            return Err(OdeError::SingularNewton { t, h });
         }
         prepared_h = h;
         // Stages: Z_i − hγ f(y + Z_i) = h Σ_{j<i} a_ij f(y + Z_j).
@@ -150,14 +150,14 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 // The Jacobian is current: shrink the step.
                 h *= 0.5;
                 if !stats.refactor(&mut *newton, h * GAMMA) {
-                    return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
+                    return Err(OdeError::SingularNewton { t, h });
                 }
             } else {
                 // Retry with a fresh Jacobian before shrinking the step.
                 fresh_jacobian = true;
                 stats.jacobians += 1;
                 if !newton.prepare(t, &y, &f0, h * GAMMA) {
-                    return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
+                    return Err(OdeError::SingularNewton { t, h });
                 }
             }
             prepared_h = h;
@@ -231,7 +231,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 fresh_jacobian = true;
                 stats.jacobians += 1;
                 if !newton.prepare(t, &y, &f0, h * GAMMA) {
-                    return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
+                    return Err(OdeError::SingularNewton { t, h });
                 }
                 prepared_h = h;
             }

@@ -105,6 +105,14 @@ pub enum OdeError<E> {
         /// The last accepted state.
         y: Vec<f64>,
     },
+    /// The implicit method's Newton matrix `I − hγJ` could not be factored (a singular
+    /// pivot block) at the step size tried.
+    SingularNewton {
+        /// Time reached.
+        t: f64,
+        /// Step size tried.
+        h: f64,
+    },
     /// The right-hand side produced a non-finite value.
     NonFinite {
         /// Time reached.

@@ -564,6 +564,12 @@ fn stopped(dynamics: &Dynamics<'_>, settings: &RunSettings, limits: &Limits, e: 
             };
             SimError::Integrator { t, message }
         }
+        OdeError::SingularNewton { t, h } => SimError::Integrator {
+            t,
+            message: format!(
+                "the implicit integrator's Newton matrix I − hγJ could not be factored at a step of {h:.3e} s (a singular pivot block): a structure whose locked directions are redundant (locks closing a loop of locked hinges) does this; otherwise it is a fault in foldsim, please report it with the scenario. integrator = \"dop853\" does not need the matrix"
+            ),
+        },
         OdeError::TooManySteps { t, h, steps, y } => {
             let budget = if settings.max_steps.is_some() {
                 "run.max_steps".to_string()

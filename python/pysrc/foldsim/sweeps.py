@@ -10,6 +10,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+import uuid
 from pathlib import Path
 from typing import Any
 
@@ -140,8 +141,9 @@ def sweep(
         size = chunk_size or max(1, math.ceil(n / (4 * threads)))
         bounds = _chunks(n, size)
         args = (sw.text, sw.name, str(sw.base), n, sw.seed)
+        token = uuid.uuid4().hex  # a fresh key per call: Dask must not reuse another sweep's results
         futures = client.map(
-            _run_chunk, *zip(*[(*args, a, b) for a, b in bounds]), key=[f"foldsim-sweep-{sw.seed}-{a}-{b}-{id(sw)}" for a, b in bounds]
+            _run_chunk, *zip(*[(*args, a, b) for a, b in bounds]), key=[f"foldsim-sweep-{token}-{a}-{b}" for a, b in bounds]
         )
         parts = []
         for future in futures:  # in run order, each as soon as it and those before are done

@@ -1,0 +1,240 @@
+//! The command line's commands and options (clap).
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "foldsim",
+    version,
+    about = "Deployment dynamics of folded spacecraft structures with flexible hinges"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Run a scenario and write its outputs (docs/outputs.md) as CSV.
+    Run {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// Output CSV. Default: `run.csv` from the scenario, else `<scenario name>.csv` in
+        /// the current directory. It may not be one of the run's input files.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Columns to write, comma-separated names or patterns with * and ?, and the word
+        /// `default` for the default set (overrides `run.columns`), e.g. `t,h*_yaw,hub_w_*`.
+        #[arg(long, value_delimiter = ',')]
+        columns: Option<Vec<String>>,
+        /// Write the output even if it is estimated above 1 GiB.
+        #[arg(long)]
+        large_output: bool,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+        /// Also write the run as an animated glTF binary (.glb; docs/outputs.md).
+        #[cfg(feature = "animation")]
+        #[arg(long)]
+        animation: Option<PathBuf>,
+        /// Frames per second of simulated time in the animation (default: one per output row).
+        #[cfg(feature = "animation")]
+        #[arg(long)]
+        animation_fps: Option<f64>,
+        /// Also write the viewer page of the run (as `foldsim view` does from the CSV).
+        #[cfg(feature = "animation")]
+        #[arg(long)]
+        view: Option<PathBuf>,
+    },
+    /// Write an animated glTF binary (.glb) of a finished run from its CSV and its scenario.
+    #[cfg(feature = "animation")]
+    Animate {
+        /// The run's scenario file.
+        scenario: PathBuf,
+        /// The run's CSV (it must hold every body's _R_x/y/z and yaw/pitch/roll columns).
+        #[arg(long)]
+        csv: PathBuf,
+        /// The .glb file to write.
+        #[arg(long, short)]
+        output: PathBuf,
+        /// Frames per second of simulated time (default: one per CSV row).
+        #[arg(long)]
+        fps: Option<f64>,
+    },
+    /// Write one self-contained HTML page that plays a finished run (works offline, from a
+    /// file): the animation with play, pause, speed and a time slider, an orbiting camera,
+    /// panels coloured by body or by fold angle, and a plot of output columns whose cursor
+    /// follows the animation.
+    #[cfg(feature = "animation")]
+    View {
+        /// The run's scenario file.
+        scenario: PathBuf,
+        /// The run's CSV (with every body's _R_x/y/z and yaw/pitch/roll columns).
+        #[arg(long)]
+        csv: PathBuf,
+        /// The .html page to write.
+        #[arg(long, short)]
+        output: PathBuf,
+        /// Columns to plot, comma-separated (default: the deployed fraction and spin rate of
+        /// a large structure, else the first hinges' fold angles).
+        #[arg(long, value_delimiter = ',')]
+        columns: Vec<String>,
+        /// Animation frames per second of simulated time (default: one per CSV row).
+        #[arg(long)]
+        fps: Option<f64>,
+    },
+    /// Run a sweep: many runs of a scenario with the values its [sweep] table draws
+    /// (docs/sweep.md), in parallel, one summary row per run streamed to a CSV file.
+    Sweep {
+        /// Scenario file with a [sweep] table.
+        scenario: PathBuf,
+        /// Summary table to write (CSV). Default: `<scenario name>-sweep.csv` in the current
+        /// directory. Written as `<file>.partial` until the last run is done.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Worker threads (default: one per core).
+        #[arg(long)]
+        workers: Option<usize>,
+        /// Number of runs (overrides sweep.runs).
+        #[arg(long)]
+        runs: Option<usize>,
+        /// Seed of the draws (overrides sweep.seed).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Write a generated structure as a scenario file.
+    Generate {
+        #[command(subcommand)]
+        shape: Shape,
+        /// Panel mass, kg (z-fold and grid; default 2).
+        #[arg(long, global = true)]
+        panel_mass: Option<f64>,
+        /// Hinge translational stiffness, N/m.
+        #[arg(long, default_value_t = 1e6, global = true)]
+        k_translation: f64,
+        /// Hinge stiffness of the two rotations off the fold axis, N·m/rad.
+        #[arg(long, default_value_t = 1e3, global = true)]
+        k_bending: f64,
+        /// Hinge fold stiffness, N·m/rad.
+        #[arg(long, default_value_t = 1.0, global = true)]
+        k_fold: f64,
+        /// Stowed fold angle (z-fold) or initial hub-hinge fold (grid), degrees (default 30).
+        #[arg(long, global = true)]
+        fold_deg: Option<f64>,
+        /// Simulated time, s.
+        #[arg(long, default_value_t = 10.0, global = true)]
+        duration: f64,
+        /// Integrator tolerance (rtol = atol).
+        #[arg(long, default_value_t = 1e-8, global = true)]
+        tolerance: f64,
+        /// Scenario file to write.
+        #[arg(long, short, global = true)]
+        output: Option<PathBuf>,
+    },
+    /// Plot columns of an output CSV against time, as PNG.
+    #[cfg(feature = "plot")]
+    Plot {
+        /// Output CSV of `foldsim run`.
+        csv: PathBuf,
+        /// Columns to plot, comma-separated (e.g. h1_yaw,h2_yaw).
+        #[arg(long, value_delimiter = ',', required = true)]
+        columns: Vec<String>,
+        /// Show angle columns in degrees.
+        #[arg(long)]
+        degrees: bool,
+        /// Title of the plot.
+        #[arg(long, default_value = "")]
+        title: String,
+        /// PNG file to write.
+        #[arg(long, short)]
+        output: PathBuf,
+    },
+}
+
+#[derive(Subcommand)]
+pub enum Shape {
+    /// A z-folded chain of panels off the hub.
+    Zfold {
+        /// Number of panels.
+        #[arg(long)]
+        panels: usize,
+    },
+    /// A grid of panels hinged to their neighbours (many loops).
+    Grid {
+        /// Rows of panels.
+        #[arg(long)]
+        rows: usize,
+        /// Columns of panels.
+        #[arg(long)]
+        cols: usize,
+    },
+    /// A flasher: a flat disc of panels that wraps round a polygonal hub (docs/flasher.md),
+    /// stowed at the start and stress-free deployed. Prints what it built (diameters, counts,
+    /// loops, geometry checks, stowed folds and strain).
+    #[command(allow_negative_numbers = true)]
+    Flasher(Box<FlasherArgs>),
+}
+
+#[derive(clap::Args)]
+pub struct FlasherArgs {
+    /// Number of gores N (sides of the hub), ≥ 3.
+    #[arg(long)]
+    pub gores: usize,
+    /// Rings of panels (nodes per major fold − 1), ≥ 1.
+    #[arg(long)]
+    pub rings: usize,
+    /// Hub circumradius, m.
+    #[arg(long, default_value_t = 1.0)]
+    pub hub_radius: f64,
+    /// Panel thickness, m (mass properties and shapes; the stowed wrap is the zero-thickness one).
+    #[arg(long, default_value_t = 0.0)]
+    pub thickness: f64,
+    /// Mass per unit area of the panels, kg/m².
+    #[arg(long, default_value_t = 1.0)]
+    pub areal_density: f64,
+    /// Hub mass, kg.
+    #[arg(long, default_value_t = 100.0)]
+    pub hub_mass: f64,
+    /// Hub principal inertia about its centroid (x, y in its plane, z its axis), kg·m²,
+    /// comma-separated. Default: a uniform disc of the hub's radius and mass.
+    #[arg(long, value_delimiter = ',', num_args = 3)]
+    pub hub_inertia: Option<Vec<f64>>,
+    /// Panel model: quads (rigid, flat in both states), ring-quads (one ring each, strained
+    /// when stowed) or triangles (a bending hinge on each quad's diagonal).
+    #[arg(long, default_value = "triangles", value_parser = ["triangles", "quads", "ring-quads"])]
+    pub panels: String,
+    /// Fold damping of the creases, N·m·s/rad.
+    #[arg(long, default_value_t = 0.0)]
+    pub c_fold: f64,
+    /// Bending stiffness of the diagonal hinges (triangle model), N·m/rad.
+    #[arg(long, default_value_t = 1e3)]
+    pub k_panel_bending: f64,
+    /// Bending damping of the diagonal hinges (triangle model), N·m·s/rad.
+    #[arg(long, default_value_t = 0.0)]
+    pub c_panel_bending: f64,
+    /// Translational damping of every hinge, N·s/m.
+    #[arg(long, default_value_t = 0.0)]
+    pub c_translation: f64,
+    /// Damping of every hinge's two rotations off its fold axis, N·m·s/rad.
+    #[arg(long, default_value_t = 0.0)]
+    pub c_rotation: f64,
+    /// Initial hub spin about its axis, rev/min.
+    #[arg(long, default_value_t = 0.0)]
+    pub spin_rpm: f64,
+    /// Hold the stowed state until this time, s (run.release_at).
+    #[arg(long)]
+    pub release_at: Option<f64>,
+    /// Output step, s (default: duration / 1000).
+    #[arg(long)]
+    pub output_step: Option<f64>,
+    /// Integrator: dop853 or sdirk4 (stiff hinges on many panels).
+    #[arg(long, default_value = "dop853", value_parser = ["dop853", "sdirk4"])]
+    pub integrator: String,
+    /// Print every hinge's stowed fold angle, not only the distinct ones.
+    #[arg(long)]
+    pub all_folds: bool,
+}

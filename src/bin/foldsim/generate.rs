@@ -1,0 +1,93 @@
+//! `foldsim generate`: scenario files of z-folds, grids and flashers.
+
+use crate::args::{FlasherArgs, Shape};
+use std::path::PathBuf;
+
+/// An option's key as the command line spells it: `k_fold` → `--k-fold`.
+pub(crate) fn flag(key: &str) -> String {
+    format!("--{}", key.replace('_', "-"))
+}
+
+pub(crate) fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>) -> Result<(), String> {
+    use foldsim::generate::options::{grid_checked, zfold_checked};
+    let text = match shape {
+        Shape::Zfold { panels } => zfold_checked(panels, p, &flag)?,
+        Shape::Grid { rows, cols } => grid_checked(rows, cols, p, &flag)?,
+        Shape::Flasher(_) => unreachable!("flashers are written by generate_flasher"),
+    };
+    write_scenario(&text, output)
+}
+
+pub(crate) fn write_scenario(text: &str, output: Option<PathBuf>) -> Result<(), String> {
+    match output {
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+        Some(output) => std::fs::write(&output, text).map_err(|e| format!("cannot write {}: {e}", output.display())),
+    }
+}
+
+/// Writes a flasher's scenario (to `output`, or standard output) and prints its report (to
+/// standard output, or standard error when the scenario goes there); the report also heads
+/// the scenario as comments.
+pub(crate) fn generate_flasher(
+    a: &FlasherArgs,
+    k_translation: f64,
+    k_rotation: f64,
+    k_fold: f64,
+    run: foldsim::generate::RunText,
+    output: Option<PathBuf>,
+) -> Result<(), String> {
+    use foldsim::generate::flasher::FlasherLaws;
+    use foldsim::generate::options::{FlasherOptions, panel_model};
+    let options = FlasherOptions {
+        gores: a.gores,
+        rings: a.rings,
+        hub_radius: a.hub_radius,
+        thickness: a.thickness,
+        areal_density: a.areal_density,
+        hub_mass: a.hub_mass,
+        hub_inertia: a.hub_inertia.as_ref().map(|v| [v[0], v[1], v[2]]),
+        panels: panel_model(&a.panels)?,
+        laws: FlasherLaws {
+            k_fold,
+            c_fold: a.c_fold,
+            k_bending: a.k_panel_bending,
+            c_bending: a.c_panel_bending,
+            k_translation,
+            c_translation: a.c_translation,
+            k_rotation,
+            c_rotation: a.c_rotation,
+        },
+        spin_rpm: a.spin_rpm,
+        duration: run.duration,
+        output_step: a.output_step,
+        tolerance: run.tolerance,
+        integrator: a.integrator.clone(),
+        release_at: a.release_at,
+    };
+    let (text, report) = options.scenario(&flag)?;
+    let summary = report.text(a.all_folds);
+    // The command that wrote it (without the output file), then the report, as comments.
+    let mut command: Vec<String> = vec!["foldsim".into()];
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        if arg == "-o" || arg == "--output" {
+            args.next();
+        } else if !arg.starts_with("--output=") {
+            command.push(arg);
+        }
+    }
+    let commented: String = std::iter::once(format!("Written by: {}", command.join(" ")))
+        .chain(report.text(false).lines().map(str::to_string))
+        .map(|l| format!("# {l}\n"))
+        .collect();
+    let text = format!("{commented}{text}");
+    if output.is_some() {
+        print!("{summary}");
+    } else {
+        eprint!("{summary}");
+    }
+    write_scenario(&text, output)
+}

@@ -1,0 +1,84 @@
+//! `foldsim`: command-line front end of the foldsim library. One file per command:
+//! `args.rs` (what the command line takes), `run.rs` (`run`, with the animation and page
+//! targets), `report.rs` (the end-of-run report), `view.rs` (`animate`, `view`),
+//! `generate.rs` (`generate`), `sweep.rs` (`sweep`).
+
+mod args;
+mod generate;
+mod report;
+mod run;
+mod sweep;
+#[cfg(feature = "animation")]
+mod view;
+
+use args::{Cli, Command, Shape};
+use clap::Parser;
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        #[cfg(feature = "animation")]
+        Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps, view: page } => {
+            let animation_target = animation.map(|path| (path, animation_fps));
+            run::run(&scenario, csv, columns, large_output, quiet, animation_target).and_then(|csv| match page {
+                Some(page) => view::view(&scenario, &csv, &page, animation_fps, &[]),
+                None => Ok(()),
+            })
+        }
+        #[cfg(not(feature = "animation"))]
+        Command::Run { scenario, csv, columns, large_output, quiet } => {
+            run::run(&scenario, csv, columns, large_output, quiet, None).map(|_| ())
+        }
+        #[cfg(feature = "animation")]
+        Command::Animate { scenario, csv, output, fps } => view::animate(&scenario, &csv, &output, fps),
+        #[cfg(feature = "animation")]
+        Command::View { scenario, csv, output, columns, fps } => view::view(&scenario, &csv, &output, fps, &columns),
+        Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
+            sweep::sweep(&scenario, output, workers, runs, seed, quiet)
+        }
+        Command::Generate {
+            shape,
+            panel_mass,
+            k_translation,
+            k_bending,
+            k_fold,
+            fold_deg,
+            duration,
+            tolerance,
+            output,
+        } => {
+            if let Shape::Flasher(args) = shape {
+                if panel_mass.is_some() || fold_deg.is_some() {
+                    Err("--panel-mass and --fold-deg do not apply to a flasher: its panels' masses follow from --areal-density and their shapes, its folds from the geometry".to_string())
+                } else {
+                    let run = foldsim::generate::RunText { duration, tolerance, ..Default::default() };
+                    generate::generate_flasher(&args, k_translation, k_bending, k_fold, run, output)
+                }
+            } else {
+                let p = foldsim::generate::Params {
+                    panel_mass: panel_mass.unwrap_or(2.0),
+                    k_translation,
+                    k_bending,
+                    k_fold,
+                    fold_deg: fold_deg.unwrap_or(30.0),
+                    duration,
+                    tolerance,
+                    ..Default::default()
+                };
+                generate::generate(shape, &p, output)
+            }
+        }
+        #[cfg(feature = "plot")]
+        Command::Plot { csv, columns, degrees, title, output } => {
+            foldsim::output::plot::plot_columns(&csv, &columns, degrees, &title, &output)
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,188 @@
+//! `foldsim run`: a scenario run to CSV, with its animation and report.
+
+use foldsim::observe::Selection;
+use foldsim::output::CsvSink;
+#[cfg(feature = "animation")]
+use foldsim::output::animation::Frames;
+use foldsim::scenario::Scenario;
+use foldsim::simulate::{Sink, simulate};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Output estimated above this many bytes is refused unless `--large-output` is given.
+pub(crate) const LARGE_OUTPUT: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Bytes a CSV field takes on average (shortest round-trip digits, sign, exponent, comma).
+pub(crate) const BYTES_PER_FIELD: f64 = 22.0;
+
+pub(crate) fn run(
+    path: &Path,
+    csv: Option<PathBuf>,
+    columns: Option<Vec<String>>,
+    large_output: bool,
+    quiet: bool,
+    animation: Option<(PathBuf, Option<f64>)>,
+) -> Result<PathBuf, String> {
+    let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
+    if let Some((glb, fps)) = &animation {
+        check_animation_target(glb, *fps, &scenario.inputs)?;
+    }
+    for w in &scenario.warnings {
+        eprintln!("warning: {w}");
+    }
+    let target = csv.or_else(|| scenario.csv.clone()).unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.csv"))
+    });
+    let columns = match columns {
+        Some(patterns) => Selection::matching(&scenario.model, &patterns).map_err(|m| format!("--columns: {m}"))?,
+        None => scenario.columns.clone(),
+    };
+    refuse_inputs(&target, &scenario.inputs)?;
+    let settings = &scenario.settings;
+    let rows = (settings.duration / settings.output_step).floor() + 2.0;
+    let bytes = rows * columns.names.len() as f64 * BYTES_PER_FIELD;
+    if bytes > LARGE_OUTPUT && !large_output {
+        return Err(format!(
+            "{}: this run would write about {:.1} GiB ({rows:.3e} rows of {} columns): raise run.output_step, choose fewer columns (run.columns or --columns), or pass --large-output to write it anyway",
+            path.display(),
+            bytes / LARGE_OUTPUT,
+            columns.names.len()
+        ));
+    }
+    let stale = target.is_file().then(|| target.clone());
+    let mut sink = CsvSink::create(&target, &columns)?;
+    let duration = settings.duration;
+
+    // Ctrl-C stops the run at its next step, which then says where it stopped.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::new(1000);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} t = {msg} [{bar:40}] {percent}% eta {eta}")
+                .expect("static progress template")
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let mut tick = |t: f64| {
+        if let Some(b) = &bar {
+            b.set_position((1000.0 * t / duration) as u64);
+            b.set_message(format!("{t:.3} s"));
+        }
+        if interrupted.load(Ordering::SeqCst) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+    };
+    let mut frames = animation.as_ref().map(|(_, fps)| Frames::new(scenario.model.bodies.len(), *fps));
+    let result = {
+        let mut both = |o: &foldsim::observe::Observation| -> Result<(), String> {
+            sink.record(o)?;
+            if let Some(f) = frames.as_mut() {
+                f.push(o);
+            }
+            Ok(())
+        };
+        simulate(&scenario.model, &scenario.initial, settings, &mut both, Some(&mut tick))
+    };
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    match result {
+        Ok(report) => {
+            let written = sink.finish()?;
+            if !quiet {
+                crate::report::print_report(&scenario, &report, &written);
+            }
+            if let (Some((glb, _)), Some(mut frames)) = (animation, frames) {
+                frames.finish();
+                write_animation(&scenario.model, &frames, &glb, quiet)?;
+            }
+            Ok(written)
+        }
+        Err(e) => {
+            let partial = sink.partial_path().to_path_buf();
+            drop(sink);
+            let mut message =
+                format!("{}: {e}\nthe rows written before it stopped are in {}", path.display(), partial.display());
+            if let Some(old) = stale.filter(|old| *old != partial) {
+                message.push_str(&format!("\n{} is an earlier run's complete output, left as it was", old.display()));
+            }
+            Err(message)
+        }
+    }
+}
+
+#[cfg(not(feature = "animation"))]
+pub(crate) struct Frames;
+
+#[cfg(not(feature = "animation"))]
+impl Frames {
+    pub(crate) fn new(_: usize, _: Option<f64>) -> Self {
+        Frames
+    }
+    pub(crate) fn push(&mut self, _: &foldsim::observe::Observation) {}
+    pub(crate) fn finish(&mut self) {}
+}
+
+#[cfg(not(feature = "animation"))]
+pub(crate) fn check_animation_target(_: &Path, _: Option<f64>, _: &[PathBuf]) -> Result<(), String> {
+    Ok(())
+}
+
+#[cfg(not(feature = "animation"))]
+pub(crate) fn write_animation(_: &foldsim::model::Model, _: &Frames, _: &Path, _: bool) -> Result<(), String> {
+    Ok(())
+}
+
+/// Refuses an animation target that is an input, or a frame rate that is not positive.
+#[cfg(feature = "animation")]
+pub(crate) fn check_animation_target(glb: &Path, fps: Option<f64>, inputs: &[PathBuf]) -> Result<(), String> {
+    if let Some(f) = fps
+        && !(f.is_finite() && f > 0.0)
+    {
+        return Err(format!("the animation's frame rate must be a positive number of frames per second; got {f}"));
+    }
+    refuse_inputs(glb, inputs)
+}
+
+#[cfg(feature = "animation")]
+pub(crate) fn write_animation(
+    model: &foldsim::model::Model,
+    frames: &Frames,
+    glb: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let written = foldsim::output::animation::write_glb(model, frames, glb)?;
+    if !quiet {
+        println!(
+            "  animation        {} frames, {:.1} MB -> {}",
+            written.frames,
+            written.bytes as f64 / 1e6,
+            glb.display()
+        );
+    }
+    Ok(())
+}
+
+/// Refuses an output path that is one of the run's inputs (the scenario or a table file):
+/// writing there would destroy it.
+pub(crate) fn refuse_inputs(target: &Path, inputs: &[PathBuf]) -> Result<(), String> {
+    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    match inputs.iter().find(|input| same(target, input)) {
+        Some(input) => Err(format!(
+            "the output {} is an input of this run ({}): name another file with --csv",
+            target.display(),
+            input.display()
+        )),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,53 @@
+//! `foldsim animate` and `foldsim view`: a finished run's animation and viewer page.
+
+use crate::run::{check_animation_target, write_animation};
+use foldsim::output::animation::Frames;
+use foldsim::scenario::Scenario;
+use std::path::Path;
+
+/// A finished run read back for `animate` and `view`: its scenario, CSV, animation frames
+/// and the rows they came from; `output` checked not to be one of its inputs.
+#[cfg(feature = "animation")]
+pub(crate) fn finished_run(
+    scenario_path: &Path,
+    csv: &Path,
+    output: &Path,
+    fps: Option<f64>,
+) -> Result<(Scenario, foldsim::output::animation::Table, Frames, Vec<usize>), String> {
+    use foldsim::output::animation::{Table, frames_from_table};
+    let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
+    check_animation_target(output, fps, &scenario.inputs)?;
+    let table = Table::read(csv)?;
+    let (frames, kept) =
+        frames_from_table(&scenario.model, &table, fps).map_err(|m| format!("{}: {m}", csv.display()))?;
+    Ok((scenario, table, frames, kept))
+}
+
+/// `foldsim animate`: the animation of a finished run from its CSV's body columns.
+#[cfg(feature = "animation")]
+pub(crate) fn animate(scenario_path: &Path, csv: &Path, output: &Path, fps: Option<f64>) -> Result<(), String> {
+    let (scenario, _, frames, _) = finished_run(scenario_path, csv, output, fps)?;
+    write_animation(&scenario.model, &frames, output, false)
+}
+
+/// `foldsim view`: a self-contained page playing a finished run, beside a plot of `columns`.
+#[cfg(feature = "animation")]
+pub(crate) fn view(
+    scenario_path: &Path,
+    csv: &Path,
+    output: &Path,
+    fps: Option<f64>,
+    columns: &[String],
+) -> Result<(), String> {
+    let (scenario, table, frames, kept) = finished_run(scenario_path, csv, output, fps)?;
+    let title = scenario.title.clone().unwrap_or_else(|| scenario_path.display().to_string());
+    let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, columns)?;
+    foldsim::output::animation::write_atomically(output, html.as_bytes())?;
+    println!(
+        "  viewer           {} frames, {:.1} MB -> {}",
+        frames.times.len(),
+        html.len() as f64 / 1e6,
+        output.display()
+    );
+    Ok(())
+}

@@ -96,20 +96,24 @@ impl Sweep {
         }
         let halt = AtomicBool::new(false);
         let (result, rows, interrupted) = py.detach(|| {
-            let mut rows: Vec<SweepRow> = Vec::with_capacity(stop - start);
+            let mut rows: Vec<SweepRow> = Vec::new();
             let mut interrupted = false;
             let result = std::thread::scope(|scope| {
+                let (finished, wait) = std::sync::mpsc::channel::<()>();
                 let sweeping = scope.spawn(|| {
-                    let mut rows = Vec::with_capacity(stop - start);
+                    let mut rows = Vec::with_capacity((stop - start).min(4096));
                     let r = self.inner.run(start..stop, workers, &halt, &mut |row| {
                         rows.push(row);
                         Ok(())
                     });
+                    drop(finished);
                     (r, rows)
                 });
-                // Ctrl-C: look at Python's signals every 100 ms while the workers run.
-                while !sweeping.is_finished() {
-                    std::thread::sleep(std::time::Duration::from_millis(100));
+                // Ctrl-C: look at Python's signals every 100 ms while the workers run (and
+                // return as soon as they are done, not at the next look).
+                while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                    wait.recv_timeout(std::time::Duration::from_millis(100))
+                {
                     if Python::attach(|py| py.check_signals().is_err()) {
                         interrupted = true;
                         halt.store(true, Ordering::Relaxed);

@@ -10,6 +10,8 @@ from __future__ import annotations
 import functools
 import math
 import os
+import sys
+import time
 import uuid
 from pathlib import Path
 from typing import Any
@@ -84,6 +86,28 @@ class _Writer:
         os.replace(self.partial, self.path)
 
 
+class _Progress:
+    """A one-line progress report on standard error (runs done, failed, time left)."""
+
+    def __init__(self, total: int, show: bool):
+        self.total, self.show, self.done, self.failed = total, show, 0, 0
+        self.started = time.monotonic()
+
+    def add(self, frame) -> None:
+        self.done += len(frame)
+        self.failed += int((frame["status"] != "ok").sum())
+        if self.show:
+            elapsed = time.monotonic() - self.started
+            left = elapsed / self.done * (self.total - self.done) if self.done else float("nan")
+            sys.stderr.write(f"\rfoldsim sweep: {self.done}/{self.total} runs, {self.failed} failed, {left:.0f} s left ")
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.show:
+            sys.stderr.write("\r" + " " * 72 + "\r")
+            sys.stderr.flush()
+
+
 def sweep(
     scenario,
     parameters: dict[str, dict] | None = None,
@@ -95,6 +119,7 @@ def sweep(
     client=None,
     chunk_size: int | None = None,
     output: str | Path | None = None,
+    progress: bool | None = None,
 ):
     """Runs a sweep and returns its summary table as a pandas DataFrame, one row per run in
     run order: ``run``, ``status`` (ok or failed), the swept values (columns named by key
@@ -111,6 +136,8 @@ def sweep(
     client: a ``dask.distributed.Client``: the runs go to its workers in chunks of
         `chunk_size` (default: four chunks per worker thread) and come back as the same table.
     output: also stream the table to this .csv or .parquet file as chunks finish.
+    progress: a one-line progress report on standard error (default: when it is a
+        terminal; then local runs go in chunks of 16 per worker so that it moves).
     """
     native = _native_scenario(scenario)
     spec = None
@@ -124,15 +151,20 @@ def sweep(
     writer = _Writer(output) if output is not None else None
     import pandas as pd
 
+    if progress is None:
+        progress = sys.stderr.isatty()
+    report = _Progress(n, progress)
     if client is None:
         workers = workers or os.cpu_count() or 1
-        # Streaming to a file runs in chunks (each over every worker); otherwise one go.
-        size = chunk_size or (max(64, 16 * workers) if writer else n)
+        # Streaming to a file or showing progress runs in chunks (each over every worker);
+        # otherwise one go.
+        size = chunk_size or (max(64, 16 * workers) if writer or progress else n)
         parts = []
         for a, b in _chunks(n, size):
             frame = _frame(sw.run(a, b, workers), header)
             if writer:
                 writer.write(frame)
+            report.add(frame)
             parts.append(frame)
     else:
         if workers is not None:
@@ -150,7 +182,9 @@ def sweep(
             frame = _frame(future.result(), header)
             if writer:
                 writer.write(frame)
+            report.add(frame)
             parts.append(frame)
+    report.close()
     if writer:
         writer.finish()
     table = pd.concat(parts, ignore_index=True) if parts else _frame({h: [] for h in header}, header)

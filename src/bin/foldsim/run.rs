@@ -179,7 +179,7 @@ pub(crate) fn refuse_inputs(target: &Path, inputs: &[PathBuf]) -> Result<(), Str
     };
     match inputs.iter().find(|input| same(target, input)) {
         Some(input) => Err(format!(
-            "the output {} is an input of this run ({}): name another file with --csv",
+            "the output {} is an input of this run ({}): write the output to another file",
             target.display(),
             input.display()
         )),

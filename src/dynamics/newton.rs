@@ -306,59 +306,11 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             }
             colours[c].push(b);
         }
-        // Minimum-degree elimination order with fill, over the bodies and the locked
-        // hinges' nodes. A locked hinge's node has no diagonal block of its own (its
-        // constraint rows): it becomes eligible once both its bodies are eliminated, which
-        // gives it one (`J S⁻¹ M⁻¹ Jᵀ` over both). One body is not enough: two hinges
-        // locked in all six directions on one body, that body eliminated first, leave the
-        // second hinge's pivot exactly zero (the first took the body's six freedoms), and
-        // the factorization fails although the matrix is regular. With both bodies first,
-        // every leading block is a body set with locks inside it, regular while the locked
-        // hinges form a forest (they do when only tree hinges are locked, as the release
-        // restraint locks them).
+        // Minimum-degree elimination order with fill, each locked hinge's node after a body
+        // it is matched to (`order.rs` says why).
+        let pairs: Vec<(usize, usize)> = self.groups.iter().map(|&(p, c, _)| (p, c)).collect();
+        let order = order::elimination_order(&neighbours, &pairs);
         let n_nodes = nb + self.groups.len();
-        let mut adj: Vec<std::collections::BTreeSet<usize>> =
-            neighbours.iter().enumerate().map(|(i, v)| v.iter().copied().filter(|&j| j != i).collect()).collect();
-        adj.resize(n_nodes, std::collections::BTreeSet::new());
-        for (g, &(p, c, _)) in self.groups.iter().enumerate() {
-            for b in [p, c] {
-                adj[nb + g].insert(b);
-                adj[b].insert(nb + g);
-            }
-        }
-        let mut done = vec![false; n_nodes];
-        let mut order = Vec::with_capacity(n_nodes);
-        let mut by_degree: std::collections::BTreeSet<(usize, usize)> = (0..nb).map(|i| (adj[i].len(), i)).collect();
-        let mut eligible: Vec<bool> = (0..n_nodes).map(|i| i < nb).collect();
-        // Per lock node, its bodies not yet eliminated.
-        let mut waiting: Vec<usize> = (0..n_nodes).map(|i| if i < nb { 0 } else { 2 }).collect();
-        while let Some((_, p)) = by_degree.pop_first() {
-            done[p] = true;
-            order.push(p);
-            let nbrs: Vec<usize> = adj[p].iter().copied().filter(|&j| !done[j]).collect();
-            for &i in &nbrs {
-                if eligible[i] {
-                    by_degree.remove(&(adj[i].len(), i));
-                }
-                adj[i].remove(&p);
-                for &j in &nbrs {
-                    if i != j {
-                        adj[i].insert(j);
-                    }
-                }
-                if i >= nb && p < nb {
-                    let (a, b, _) = self.groups[i - nb];
-                    if a == p || b == p {
-                        waiting[i] -= 1;
-                    }
-                }
-                eligible[i] = waiting[i] == 0;
-                if eligible[i] {
-                    by_degree.insert((adj[i].len(), i));
-                }
-            }
-        }
-        debug_assert_eq!(order.len(), n_nodes, "every lock node's bodies are eliminated, so it is too");
         let mut position = vec![0; n_nodes];
         for (k, &p) in order.iter().enumerate() {
             position[p] = k;
@@ -595,5 +547,6 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
     }
 }
 
+mod order;
 #[cfg(test)]
 mod tests;

@@ -226,8 +226,8 @@ fn generate_flasher_reports_and_refuses_nonsense() {
 
 /// The implicit integrator under the launch restraint: every tree hinge locked in all six
 /// directions, the loops free. The Newton matrix's elimination once took a locked hinge
-/// before both its bodies and met an exactly zero pivot (two fully locked hinges on one
-/// body), failing at the first fresh Jacobian. Now SDIRK4 runs it and agrees with DOP853:
+/// after one of its bodies that another fully locked hinge had already used up, met an
+/// exactly zero pivot and failed at the first fresh Jacobian (dynamics/newton/order.rs). Now SDIRK4 runs it and agrees with DOP853:
 /// the restraint holds the stowed shape until release (hinge angles unchanged to 1e-6 rad,
 /// the locks' drift bound), and the spin rate at the end agrees to 1e-5 of its value (both
 /// at rtol 1e-9; measured 1.3e-8; the spin falls from 2.09 to 0.33 rad/s as the flasher

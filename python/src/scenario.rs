@@ -68,13 +68,7 @@ impl Scenario {
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
         let text = ScenarioText::from_file(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let mut s = Self::build(text, false)?;
-        // As the command line does: run.csv relative to the file, the file among the inputs.
-        let inner = std::sync::Arc::get_mut(&mut s.inner).expect("just built");
-        let base = path.parent().unwrap_or(std::path::Path::new(""));
-        inner.csv = inner.csv.take().map(|c| base.join(c));
-        inner.inputs.insert(0, path);
-        Ok(s)
+        Self::build(text, false)
     }
 
     /// Reads a scenario from TOML text; `name` stands for the file in messages, `base` is the

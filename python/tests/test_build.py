@@ -83,3 +83,5 @@ def test_generators_equal_the_cli(tmp_path: Path):
         foldsim.generate.flasher(6, 3, k_fold=-1.0)
     with pytest.raises(ValueError, match="3 ≤ gores"):
         foldsim.generate.flasher(2, 3)
+    with pytest.raises(ValueError, match="unknown option 'k_flod'.*k_fold"):
+        foldsim.generate.zfold(3, k_flod=1.0)

@@ -423,6 +423,23 @@ pub struct FlasherLaws {
     pub c_rotation: f64,
 }
 
+impl Default for FlasherLaws {
+    /// The command line's defaults: soft undamped folds (1 N·m/rad), bending diagonals and
+    /// off-axis rotations at 1e3 N·m/rad, translations at 1e6 N/m.
+    fn default() -> Self {
+        Self {
+            k_fold: 1.0,
+            c_fold: 0.0,
+            k_bending: 1e3,
+            c_bending: 0.0,
+            k_translation: 1e6,
+            c_translation: 0.0,
+            k_rotation: 1e3,
+            c_rotation: 0.0,
+        }
+    }
+}
+
 /// A flasher and how it is written as a scenario: the report the generator prints.
 #[derive(Clone, Debug)]
 pub struct FlasherReport {
@@ -550,17 +567,6 @@ mod tests {
         }
     }
 
-    pub(crate) const LAWS: FlasherLaws = FlasherLaws {
-        k_fold: 1.0,
-        c_fold: 0.0,
-        k_bending: 1e3,
-        c_bending: 0.0,
-        k_translation: 1e6,
-        c_translation: 0.0,
-        k_rotation: 1e3,
-        c_rotation: 0.0,
-    };
-
     /// Every hinge, the loop ones included, starts at its stowed state: δ, pitch and roll at
     /// round-off (1e-12 m, rad) for the models exact in both states; and in the deployed
     /// design (every tree coordinate zero) every hinge is at rest, its fold zero too.
@@ -573,7 +579,7 @@ mod tests {
             (PanelModel::Triangles, true),
         ] {
             let shape = FlasherShape { gores: 6, rings: 3, hub_radius: 1.0, model };
-            let (text, _) = flasher_scenario(&shape, &LAWS, &params()).unwrap();
+            let (text, _) = flasher_scenario(&shape, &FlasherLaws::default(), &params()).unwrap();
             let s = Scenario::from_toml(&text, "flasher").unwrap_or_else(|e| panic!("{e}"));
             let design = crate::kinematics::InitialConditions {
                 hinges: vec![None; s.model.hinges.len()],

@@ -44,19 +44,20 @@ pub struct Scenario {
 impl Scenario {
     /// Reads and checks a scenario file.
     pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
-        let label = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
-            file: label.clone(),
-            location: None,
-            message: format!("cannot read the scenario file: {e}"),
-        })?;
+        let text = read_file(path)?;
+        let s = Self::from_toml_in(&text, &path.display().to_string(), path.parent().unwrap_or(Path::new("")))?;
+        Ok(s.read_from(path))
+    }
+
+    /// The scenario as read from `path`: `run.csv` relative to the file's directory, the
+    /// file first among the inputs.
+    pub(super) fn read_from(mut self, path: &Path) -> Self {
         let base = path.parent().unwrap_or(Path::new(""));
-        let mut s = Self::from_toml_in(&text, &label, base)?;
-        if let Some(csv) = &s.csv {
-            s.csv = Some(base.join(csv));
+        if let Some(csv) = &self.csv {
+            self.csv = Some(base.join(csv));
         }
-        s.inputs.insert(0, path.to_path_buf());
-        Ok(s)
+        self.inputs.insert(0, path.to_path_buf());
+        self
     }
 
     /// Parses and checks scenario text; `file` labels error messages; relative table paths
@@ -79,6 +80,15 @@ impl Scenario {
         check_finite(&ctx)?;
         build(&ctx, raw)
     }
+}
+
+/// A scenario file's text; an error names the file.
+pub(super) fn read_file(path: &Path) -> Result<String, ScenarioError> {
+    std::fs::read_to_string(path).map_err(|e| ScenarioError {
+        file: path.display().to_string(),
+        location: None,
+        message: format!("cannot read the scenario file: {e}"),
+    })
 }
 
 /// The tightest relative tolerance accepted: 10 units of round-off (Hairer's bound).

@@ -19,6 +19,8 @@ pub struct ScenarioText {
     pub file: String,
     /// The directory table files are read from.
     pub base: PathBuf,
+    /// The file it was read from, if any.
+    path: Option<PathBuf>,
     doc: DocumentMut,
 }
 
@@ -35,20 +37,17 @@ pub enum SetValue {
 impl ScenarioText {
     /// Reads a scenario file's text (not yet checked: see [`ScenarioText::build`]).
     pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
-        let label = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
-            file: label.clone(),
-            location: None,
-            message: format!("cannot read the scenario file: {e}"),
-        })?;
-        Self::new(&text, &label, path.parent().unwrap_or(Path::new("")))
+        let text = super::build::read_file(path)?;
+        let mut s = Self::new(&text, &path.display().to_string(), path.parent().unwrap_or(Path::new("")))?;
+        s.path = Some(path.to_path_buf());
+        Ok(s)
     }
 
     /// Scenario text labelled `file`, with table files read from `base`. Only the TOML syntax
     /// is checked here; the scenario itself when built.
     pub fn new(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
         match text.parse::<DocumentMut>() {
-            Ok(doc) => Ok(Self { file: file.to_string(), base: base.to_path_buf(), doc }),
+            Ok(doc) => Ok(Self { file: file.to_string(), base: base.to_path_buf(), path: None, doc }),
             // The scenario parser words TOML errors for users and locates them: use it.
             Err(_) => Err(Scenario::from_toml_in(text, file, base).err().unwrap_or_else(|| ScenarioError {
                 file: file.to_string(),
@@ -63,9 +62,13 @@ impl ScenarioText {
         self.doc.to_string()
     }
 
-    /// Checks and builds the scenario.
+    /// Checks and builds the scenario (as [`Scenario::from_file`] does when read from one).
     pub fn build(&self) -> Result<Scenario, ScenarioError> {
-        Scenario::from_toml_in(&self.text(), &self.file, &self.base)
+        let s = Scenario::from_toml_in(&self.text(), &self.file, &self.base)?;
+        Ok(match &self.path {
+            Some(path) => s.read_from(path),
+            None => s,
+        })
     }
 
     /// Replaces (or adds) the top-level table `key` (a sweep's `[sweep]`, say).
@@ -103,16 +106,23 @@ fn set_in(item: &mut Item, parts: &[&str], at: usize, path: &str, value: &SetVal
     let before = &parts[..at];
     if at + 1 < parts.len() {
         if part.contains(['*', '?'])
-            && let Some(tables) = item.as_array_of_tables_mut()
+            && let Some(tables) = item.as_array_of_tables()
         {
-            let mut count = 0;
-            for entry in tables.iter_mut() {
-                if entry.get("name").and_then(Item::as_str).is_some_and(|n| crate::observe::glob(part, n)) {
-                    count += set_table_in(entry, parts, at + 1, path, value)?;
-                }
-            }
-            if count == 0 {
+            let matching: Vec<usize> = (0..tables.len())
+                .filter(|&i| {
+                    tables
+                        .get(i)
+                        .and_then(|t| t.get("name"))
+                        .and_then(Item::as_str)
+                        .is_some_and(|n| crate::observe::glob(part, n))
+                })
+                .collect();
+            if matching.is_empty() {
                 return Err(format!("'{path}': no entry of '{}' has a name matching '{part}'", before.join(".")));
+            }
+            let mut count = 0;
+            for i in matching {
+                count += set_in(&mut item[i], parts, at + 1, path, value)?;
             }
             return Ok(count);
         }
@@ -120,27 +130,6 @@ fn set_in(item: &mut Item, parts: &[&str], at: usize, path: &str, value: &SetVal
         return set_in(next, parts, at + 1, path, value);
     }
     set_last(item, part, before, path, value).map(|_| 1)
-}
-
-/// As [`set_in`], from a list entry's table.
-fn set_table_in(
-    t: &mut toml_edit::Table,
-    parts: &[&str],
-    at: usize,
-    path: &str,
-    value: &SetValue,
-) -> Result<usize, String> {
-    let part = parts[at];
-    if at + 1 == parts.len() {
-        let mut item = Item::Table(std::mem::take(t));
-        let r = set_last(&mut item, part, &parts[..at], path, value);
-        *t = item.into_table().expect("put in as a table");
-        return r.map(|_| 1);
-    }
-    match t.get_mut(part) {
-        Some(next) => set_in(next, parts, at + 1, path, value),
-        None => Err(format!("'{path}': an entry of '{}' has no key '{part}'", parts[..at - 1].join("."))),
-    }
 }
 
 /// Sets key (or position) `last` of `item` to `value`.

@@ -153,39 +153,35 @@ pub fn read(text: &str, file: &str) -> Result<Option<SweepSpec>, ScenarioError> 
         }
         None => Vec::new(),
     };
-    // The run count: given, or the explicit lists' length, which must agree.
-    let mut lists = parameters.iter().filter_map(|p| match &p.distribution {
-        Distribution::List(v) => Some((p, v.len())),
-        _ => None,
-    });
-    let runs = match (runs, lists.next()) {
-        (Some((n, span)), Some((p, len))) if n as usize != len => {
+    // The run count: given, or the explicit lists' length; they must all agree.
+    let lists: Vec<(&str, usize)> = parameters
+        .iter()
+        .filter_map(|p| match &p.distribution {
+            Distribution::List(v) => Some((p.path.as_str(), v.len())),
+            _ => None,
+        })
+        .collect();
+    if let Some((path, _)) = lists.iter().find(|(_, len)| *len != lists[0].1) {
+        return Err(err(
+            span_of(sweep),
+            format!("the lists of [sweep.parameters] must all have one value per run; '{path}' differs"),
+        ));
+    }
+    let runs = match (runs, lists.first()) {
+        (Some((n, span)), Some((path, len))) if n as usize != *len => {
             return Err(err(
                 span,
                 format!(
-                    "'sweep.runs' = {n} but the list of '{}' has {len} values: they must agree (or leave runs out)",
-                    p.path
+                    "'sweep.runs' = {n} but the list of '{path}' has {len} values: they must agree (or leave runs out)"
                 ),
             ));
         }
         (Some((n, _)), _) => n as usize,
-        (None, Some((_, len))) => len,
+        (None, Some((_, len))) => *len,
         (None, None) => {
             return Err(err(span_of(sweep), "[sweep] needs 'runs', the number of runs (e.g. runs = 1000)".into()));
         }
     };
-    let first_len = parameters.iter().find_map(|p| match &p.distribution {
-        Distribution::List(v) => Some(v.len()),
-        _ => None,
-    });
-    if let Some(p) =
-        parameters.iter().find(|p| matches!(&p.distribution, Distribution::List(v) if Some(v.len()) != first_len))
-    {
-        return Err(err(
-            span_of(sweep),
-            format!("the lists of [sweep.parameters] must all have one value per run; '{}' differs", p.path),
-        ));
-    }
     if runs == 0 || runs > MAX_RUNS {
         return Err(err(span_of(sweep), format!("a sweep takes 1 to {MAX_RUNS} runs; got {runs}")));
     }

@@ -1,6 +1,8 @@
 //! The command line's commands and options (clap).
 
 use clap::{Parser, Subcommand};
+use foldsim::generate::Params;
+use foldsim::generate::options::FlasherOptions;
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -114,22 +116,22 @@ pub enum Command {
         #[arg(long, global = true)]
         panel_mass: Option<f64>,
         /// Hinge translational stiffness, N/m.
-        #[arg(long, default_value_t = 1e6, global = true)]
+        #[arg(long, default_value_t = Params::default().k_translation, global = true)]
         k_translation: f64,
         /// Hinge stiffness of the two rotations off the fold axis, N·m/rad.
-        #[arg(long, default_value_t = 1e3, global = true)]
+        #[arg(long, default_value_t = Params::default().k_bending, global = true)]
         k_bending: f64,
         /// Hinge fold stiffness, N·m/rad.
-        #[arg(long, default_value_t = 1.0, global = true)]
+        #[arg(long, default_value_t = Params::default().k_fold, global = true)]
         k_fold: f64,
         /// Stowed fold angle (z-fold) or initial hub-hinge fold (grid), degrees (default 30).
         #[arg(long, global = true)]
         fold_deg: Option<f64>,
         /// Simulated time, s.
-        #[arg(long, default_value_t = 10.0, global = true)]
+        #[arg(long, default_value_t = Params::default().duration, global = true)]
         duration: f64,
         /// Integrator tolerance (rtol = atol).
-        #[arg(long, default_value_t = 1e-8, global = true)]
+        #[arg(long, default_value_t = Params::default().tolerance, global = true)]
         tolerance: f64,
         /// Scenario file to write.
         #[arg(long, short, global = true)]
@@ -188,16 +190,16 @@ pub struct FlasherArgs {
     #[arg(long)]
     pub rings: usize,
     /// Hub circumradius, m.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().hub_radius)]
     pub hub_radius: f64,
     /// Panel thickness, m (mass properties and shapes; the stowed wrap is the zero-thickness one).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().thickness)]
     pub thickness: f64,
     /// Mass per unit area of the panels, kg/m².
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().areal_density)]
     pub areal_density: f64,
     /// Hub mass, kg.
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().hub_mass)]
     pub hub_mass: f64,
     /// Hub principal inertia about its centroid (x, y in its plane, z its axis), kg·m²,
     /// comma-separated. Default: a uniform disc of the hub's radius and mass.
@@ -208,22 +210,22 @@ pub struct FlasherArgs {
     #[arg(long, default_value = "triangles", value_parser = ["triangles", "quads", "ring-quads"])]
     pub panels: String,
     /// Fold damping of the creases, N·m·s/rad.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().laws.c_fold)]
     pub c_fold: f64,
     /// Bending stiffness of the diagonal hinges (triangle model), N·m/rad.
-    #[arg(long, default_value_t = 1e3)]
+    #[arg(long, default_value_t = FlasherOptions::default().laws.k_bending)]
     pub k_panel_bending: f64,
     /// Bending damping of the diagonal hinges (triangle model), N·m·s/rad.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().laws.c_bending)]
     pub c_panel_bending: f64,
     /// Translational damping of every hinge, N·s/m.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().laws.c_translation)]
     pub c_translation: f64,
     /// Damping of every hinge's two rotations off its fold axis, N·m·s/rad.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().laws.c_rotation)]
     pub c_rotation: f64,
     /// Initial hub spin about its axis, rev/min.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = FlasherOptions::default().spin_rpm)]
     pub spin_rpm: f64,
     /// Hold the stowed state until this time, s (run.release_at).
     #[arg(long)]

@@ -36,7 +36,7 @@ pub(crate) fn generate_flasher(
     k_translation: f64,
     k_rotation: f64,
     k_fold: f64,
-    run: foldsim::generate::RunText,
+    (duration, tolerance): (f64, f64),
     output: Option<PathBuf>,
 ) -> Result<(), String> {
     use foldsim::generate::flasher::FlasherLaws;
@@ -61,9 +61,9 @@ pub(crate) fn generate_flasher(
             c_rotation: a.c_rotation,
         },
         spin_rpm: a.spin_rpm,
-        duration: run.duration,
+        duration,
         output_step: a.output_step,
-        tolerance: run.tolerance,
+        tolerance,
         integrator: a.integrator.clone(),
         release_at: a.release_at,
     };

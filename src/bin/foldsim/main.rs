@@ -52,19 +52,19 @@ fn main() -> ExitCode {
                 if panel_mass.is_some() || fold_deg.is_some() {
                     Err("--panel-mass and --fold-deg do not apply to a flasher: its panels' masses follow from --areal-density and their shapes, its folds from the geometry".to_string())
                 } else {
-                    let run = foldsim::generate::RunText { duration, tolerance, ..Default::default() };
-                    generate::generate_flasher(&args, k_translation, k_bending, k_fold, run, output)
+                    generate::generate_flasher(&args, k_translation, k_bending, k_fold, (duration, tolerance), output)
                 }
             } else {
+                let defaults = foldsim::generate::Params::default();
                 let p = foldsim::generate::Params {
-                    panel_mass: panel_mass.unwrap_or(2.0),
+                    panel_mass: panel_mass.unwrap_or(defaults.panel_mass),
                     k_translation,
                     k_bending,
                     k_fold,
-                    fold_deg: fold_deg.unwrap_or(30.0),
+                    fold_deg: fold_deg.unwrap_or(defaults.fold_deg),
                     duration,
                     tolerance,
-                    ..Default::default()
+                    ..defaults
                 };
                 generate::generate(shape, &p, output)
             }

@@ -242,6 +242,19 @@ fn bad_sweep_tables_are_refused_with_their_line_and_what_is_valid() {
         ),
         ("[sweep]\nruns = 3\n[sweep.parameters]\n\"hinge.h1.law.k_theta\" = { distribution = \"list\", values = [1.0, 2.0] }\n".into(), "must agree"),
         ("[sweep]\nrun = 3\n".into(), "unknown key 'sweep.run'"),
+        // Paths that would give silently wrong or failed runs: two spellings of one value,
+        // the [sweep] table itself, a string, a misspelt key.
+        (
+            format!("{p}\"hinge.h1.law.k_theta\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n\"hinge.*.law.k_theta\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n"),
+            "'hinge.h1.law.k_theta' and 'hinge.*.law.k_theta' both set hinge.0.law.k_theta",
+        ),
+        (
+            format!("{p}\"body.panel.mass\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n\"body.1.mass\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n"),
+            "both set body.1.mass",
+        ),
+        (format!("{p}\"sweep.runs\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n"), "inside [sweep] itself"),
+        (format!("{p}\"run.integrator\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n"), "holds \"dop853\": a sweep draws numbers"),
+        (format!("{p}\"hinge.h1.law.k_thetaa\" = {{ distribution = \"uniform\", low = 1.0, high = 2.0 }}\n"), "'hinge.h1.law.k_thetaa' is not in the scenario"),
         ("[sweep]\nruns = 3\nseed = 1\n".into(), "at least one entry"),
     ] {
         let e = with_table(EXAMPLE, &table).err().unwrap_or_else(|| panic!("accepted: {table}"));
@@ -268,6 +281,41 @@ fn bad_sweep_tables_are_refused_with_their_line_and_what_is_valid() {
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("no [sweep] table"));
     let out = foldsim().args(["sweep", repo(EXAMPLE).to_str().unwrap(), "--workers", "0"]).output().unwrap();
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("--workers"));
+}
+
+/// A key the scenario leaves out but accepts (a default) may be swept.
+#[test]
+fn a_key_left_at_its_default_may_be_swept() {
+    let s = with_table(
+        EXAMPLE,
+        "[sweep]\nruns = 2\nseed = 1\n[sweep.parameters]\n\"run.max_steps\" = { distribution = \"choice\", values = [100000, 200000] }\n",
+    )
+    .unwrap();
+    assert!(all_rows(&s, 1).iter().all(|r| r.error.is_none()));
+}
+
+/// A sweep whose every run fails exits with failure and the first error; many workers for
+/// few runs are capped at the run count, and it says so.
+#[test]
+fn a_sweep_that_fails_everywhere_fails_and_workers_are_capped() {
+    let dir = tmp("sweep", "allfail");
+    let file = dir.join("s.toml");
+    let text =
+        std::fs::read_to_string(repo(EXAMPLE)).unwrap().replace("mean = 10.0, sd = 1.0", "mean = -10.0, sd = 1.0");
+    std::fs::write(&file, text).unwrap();
+    let out =
+        foldsim().args(["sweep", file.to_str().unwrap(), "--runs", "4", "-o"]).arg(dir.join("o.csv")).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("every run failed") && stderr.contains("run 0:") && stderr.contains("k_theta"), "{stderr}");
+    let out = foldsim()
+        .args(["sweep", repo(EXAMPLE).to_str().unwrap(), "--runs", "3", "--workers", "10000", "-o"])
+        .arg(dir.join("w.csv"))
+        .output()
+        .unwrap();
+    let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{all}");
+    assert!(all.contains("10000 workers for 3 runs: using 3"), "{all}");
 }
 
 /// `foldsim run` on a sweep file runs its nominal scenario.

@@ -10,9 +10,44 @@ fn bad(path: &str, what: &str) -> PyErr {
     PyValueError::new_err(format!("{path}: {what}"))
 }
 
-/// A Python value (bool, int, float, str, list or tuple, dict) as a TOML value; `path` names
-/// it in errors.
+/// How deep values may nest: a scenario file is at most six levels deep, so anything past
+/// this is a mistake (and unbounded recursion would overflow the interpreter's stack).
+pub const MAX_DEPTH: usize = 64;
+
+/// The containers (dicts, lists) being converted, outermost first: a container met again
+/// inside itself is a cycle.
+#[derive(Default)]
+pub struct Nesting(Vec<usize>);
+
+impl Nesting {
+    /// Enters `obj` (a container at `path`): refuses a cycle or nesting past [`MAX_DEPTH`].
+    fn enter(&mut self, obj: &Bound<'_, PyAny>, path: &str) -> PyResult<()> {
+        let id = obj.as_ptr() as usize;
+        if self.0.contains(&id) {
+            return Err(bad(path, "this value contains itself (a dict or list inside itself): a scenario is a tree"));
+        }
+        if self.0.len() >= MAX_DEPTH {
+            return Err(bad(
+                path,
+                &format!("values nest deeper than {MAX_DEPTH} levels; a scenario file is at most a few levels deep"),
+            ));
+        }
+        self.0.push(id);
+        Ok(())
+    }
+
+    fn leave(&mut self) {
+        self.0.pop();
+    }
+}
+
+/// A Python value (bool, int, float, str, list or tuple, dict, NumPy array or scalar) as a
+/// TOML value; `path` names it in errors.
 pub fn value(obj: &Bound<'_, PyAny>, path: &str) -> PyResult<Value> {
+    value_in(obj, path, &mut Nesting::default())
+}
+
+fn value_in(obj: &Bound<'_, PyAny>, path: &str, nesting: &mut Nesting) -> PyResult<Value> {
     if obj.is_instance_of::<PyBool>() {
         return Ok(Value::from(obj.extract::<bool>()?));
     }
@@ -27,21 +62,32 @@ pub fn value(obj: &Bound<'_, PyAny>, path: &str) -> PyResult<Value> {
         return Ok(Value::from(obj.extract::<String>()?));
     }
     if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
+        nesting.enter(obj, path)?;
         let mut a = Array::new();
         for (i, item) in obj.try_iter()?.enumerate() {
-            a.push(value(&item?, &format!("{path}[{i}]"))?);
+            a.push(value_in(&item?, &format!("{path}[{i}]"), nesting)?);
         }
+        nesting.leave();
         return Ok(Value::Array(a));
     }
     if let Ok(d) = obj.cast::<PyDict>() {
+        nesting.enter(obj, path)?;
         let mut t = InlineTable::new();
         for (k, v) in d.iter() {
             let k = key(&k, path)?;
-            t.insert(&k, value(&v, &format!("{path}.{k}"))?);
+            t.insert(&k, value_in(&v, &format!("{path}.{k}"), nesting)?);
         }
+        nesting.leave();
         return Ok(Value::InlineTable(t));
     }
-    // NumPy scalars and other numbers: anything float() takes.
+    // NumPy arrays and scalars: their Python values (`tolist()` gives nested lists of
+    // Python numbers, or the number itself).
+    if obj.get_type().module().is_ok_and(|m| m.to_string() == "numpy")
+        && let Ok(plain) = obj.call_method0("tolist")
+    {
+        return value_in(&plain, path, nesting);
+    }
+    // Other numbers: anything float() takes.
     if let Ok(x) = obj.extract::<f64>() {
         return Ok(Value::from(x));
     }
@@ -64,13 +110,19 @@ fn is_list_of_dicts(obj: &Bound<'_, PyAny>) -> bool {
 /// lists of tables, whose own dicts are written inline (`law = { … }`), as the example
 /// files are.
 pub fn table(d: &Bound<'_, PyDict>, path: &str) -> PyResult<Table> {
+    table_in(d, path, &mut Nesting::default())
+}
+
+fn table_in(d: &Bound<'_, PyDict>, path: &str, nesting: &mut Nesting) -> PyResult<Table> {
+    nesting.enter(d.as_any(), if path.is_empty() { "the dict" } else { path })?;
     let mut t = Table::new();
     for (k, v) in d.iter() {
         let k = key(&k, path)?;
         let here = if path.is_empty() { k.clone() } else { format!("{path}.{k}") };
         let item = if let Ok(sub) = v.cast::<PyDict>() {
-            Item::Table(table(sub, &here)?)
+            Item::Table(table_in(sub, &here, nesting)?)
         } else if is_list_of_dicts(&v) {
+            nesting.enter(&v, &here)?;
             let mut tables = ArrayOfTables::new();
             for (i, entry) in v.try_iter()?.enumerate() {
                 let entry = entry?;
@@ -78,16 +130,18 @@ pub fn table(d: &Bound<'_, PyDict>, path: &str) -> PyResult<Table> {
                 let mut row = Table::new();
                 for (ek, ev) in entry.iter() {
                     let ek = key(&ek, &here)?;
-                    row.insert(&ek, Item::Value(value(&ev, &format!("{here}[{i}].{ek}"))?));
+                    row.insert(&ek, Item::Value(value_in(&ev, &format!("{here}[{i}].{ek}"), nesting)?));
                 }
                 tables.push(row);
             }
+            nesting.leave();
             Item::ArrayOfTables(tables)
         } else {
-            Item::Value(value(&v, &here)?)
+            Item::Value(value_in(&v, &here, nesting)?)
         };
         t.insert(&k, item);
     }
+    nesting.leave();
     Ok(t)
 }
 

@@ -16,17 +16,34 @@ use pyo3::prelude::*;
 use std::ops::ControlFlow;
 
 /// A run's progress callback that looks at Python's signals every 100 ms (taking the GIL
-/// briefly) and stops the run on Ctrl-C.
-pub(crate) fn interrupt_check() -> impl FnMut(f64) -> ControlFlow<()> {
+/// briefly) and stops the run on Ctrl-C; it also hands the simulated time (s) to `report`
+/// (a progress bar's update), if given. An exception raised by `report` is ignored: a progress
+/// display must not end a run.
+pub(crate) fn interrupt_check(report: Option<Py<PyAny>>) -> impl FnMut(f64) -> ControlFlow<()> {
     let mut last = std::time::Instant::now();
-    move |_t: f64| {
+    move |t: f64| {
         if last.elapsed().as_millis() < 100 {
             return ControlFlow::Continue(());
         }
         last = std::time::Instant::now();
-        let interrupted = Python::attach(|py| py.check_signals().is_err());
+        let interrupted = Python::attach(|py| {
+            if let Some(f) = &report {
+                let _ = f.call1(py, (t,));
+            }
+            py.check_signals().is_err()
+        });
         if interrupted { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     }
+}
+
+/// Checks outputs before a command runs, as the command line does
+/// (`foldsim::output::paths::check_outputs`): `outputs` are (what, path) pairs; none may be
+/// one of `inputs` or another output, and each must be a writable file in an existing
+/// directory. ValueError says which and why.
+#[pyfunction]
+fn check_outputs(inputs: Vec<std::path::PathBuf>, outputs: Vec<(String, std::path::PathBuf)>) -> PyResult<()> {
+    let named: Vec<(&str, &std::path::Path)> = outputs.iter().map(|(w, p)| (w.as_str(), p.as_path())).collect();
+    foldsim::output::paths::check_outputs(&inputs, &named).map_err(pyo3::exceptions::PyValueError::new_err)
 }
 
 /// The native part of the `foldsim` package.
@@ -34,6 +51,7 @@ pub(crate) fn interrupt_check() -> impl FnMut(f64) -> ControlFlow<()> {
 fn _foldsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<sweep::Sweep>()?;
+    m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
     m.add_function(wrap_pyfunction!(generate::zfold, m)?)?;
     m.add_function(wrap_pyfunction!(generate::grid, m)?)?;
     m.add_function(wrap_pyfunction!(generate::flasher, m)?)?;

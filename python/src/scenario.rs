@@ -5,7 +5,7 @@ use crate::convert;
 use foldsim::observe::{Observation, Selection, row};
 use foldsim::scenario::{ScenarioError, ScenarioText, SetValue};
 use numpy::{IntoPyArray, PyArray1};
-use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyInt};
 use std::path::PathBuf;
@@ -111,9 +111,15 @@ impl Scenario {
         self.text.base.clone()
     }
 
-    /// The value at a key path (`hinge.h1.law.k_theta`), or None if the file leaves it out.
+    /// The value at a key path (`hinge.h1.law.k_theta`); KeyError naming the path when the
+    /// scenario has nothing there (a key it leaves out, or one that does not exist).
     fn get<'py>(&self, py: Python<'py>, path: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let Some(text) = self.text.get(path).map_err(PyValueError::new_err)? else { return Ok(None) };
+        let Some(text) = self.text.get(path).map_err(PyKeyError::new_err)? else {
+            return Err(PyKeyError::new_err(format!(
+                "{}: the scenario has no value at '{path}' (a key it leaves out takes its default, docs/scenario.md; pass a default to get() for one)",
+                self.text.file
+            )));
+        };
         match text.parse::<toml_edit::Value>() {
             Ok(v) => convert::to_python(py, &v).map(Some),
             // A table: give it as text.
@@ -129,6 +135,18 @@ impl Scenario {
             text.set(&path, &set_value(&v, &path)?).map_err(PyValueError::new_err)?;
         }
         Self::build(text, self.from_dict)
+    }
+
+    /// Simulated time of a run, s.
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.inner.settings.duration
+    }
+
+    /// The files the scenario reads (its file, if read from one, and its table files).
+    #[getter]
+    fn inputs(&self) -> Vec<PathBuf> {
+        self.inner.inputs.clone()
     }
 
     /// The scenario's title.
@@ -158,8 +176,13 @@ impl Scenario {
     /// Runs the scenario with the GIL released. `columns`: names or patterns as `run.columns`
     /// takes them (default: the scenario's). Returns (names, arrays, report). Ctrl-C stops
     /// the run with KeyboardInterrupt.
-    #[pyo3(signature = (columns = None))]
-    fn run<'py>(&self, py: Python<'py>, columns: Option<Vec<String>>) -> PyResult<RunOutput<'py>> {
+    #[pyo3(signature = (columns = None, progress = None))]
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        columns: Option<Vec<String>>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<RunOutput<'py>> {
         let s = &self.inner;
         let selection = match columns {
             Some(patterns) => Selection::matching(&s.model, &patterns).map_err(PyValueError::new_err)?,
@@ -175,7 +198,7 @@ impl Scenario {
                 }
                 Ok(())
             };
-            let mut progress = crate::interrupt_check();
+            let mut progress = crate::interrupt_check(progress);
             foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, Some(&mut progress))
                 .map(|report| (values, report))
         });

@@ -81,6 +81,12 @@ impl Sweep {
         self.base.clone()
     }
 
+    /// The files the nominal scenario reads: what no output of the sweep may replace.
+    #[getter]
+    fn inputs(&self) -> Vec<std::path::PathBuf> {
+        self.inner.inputs().to_vec()
+    }
+
     /// The values run `run` takes, in the order of the parameters.
     fn values(&self, run: usize) -> Vec<f64> {
         self.inner.values(run)

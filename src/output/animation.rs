@@ -326,7 +326,7 @@ fn size(positions: &[Vec3]) -> f64 {
 /// when complete).
 pub fn write_glb(model: &Model, frames: &Frames, path: &Path) -> Result<Written, String> {
     let glb = glb_bytes(model, frames)?;
-    write_atomically(path, &glb)?;
+    super::paths::write_atomically(path, &glb)?;
     Ok(Written { frames: frames.times.len(), bytes: glb.len() })
 }
 
@@ -514,16 +514,6 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
         extras: Default::default(),
     });
     Ok(glb_container(&root.to_vec().map_err(|e| format!("cannot encode the glTF JSON: {e}"))?, &bin.data))
-}
-
-/// Writes `bytes` to `path` through `path.partial`, renamed when complete.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let mut partial = path.as_os_str().to_owned();
-    partial.push(".partial");
-    let partial = std::path::PathBuf::from(partial);
-    std::fs::write(&partial, bytes).map_err(|e| format!("cannot write {}: {e}", partial.display()))?;
-    std::fs::rename(&partial, path)
-        .map_err(|e| format!("cannot rename {} to {}: {e}", partial.display(), path.display()))
 }
 
 /// A unit quaternion as glTF's (x, y, z, w) in f32, renormalized after rounding.

@@ -34,11 +34,7 @@ impl CsvSink {
         let partial = match std::fs::metadata(target) {
             Ok(m) if m.is_dir() => return Err(format!("{} is a directory: name a CSV file", target.display())),
             Ok(m) if !m.is_file() => target.to_path_buf(),
-            _ => {
-                let mut partial = target.as_os_str().to_owned();
-                partial.push(".partial");
-                PathBuf::from(partial)
-            }
+            _ => super::paths::partial_path(target),
         };
         let file = File::create(&partial).map_err(|e| format!("cannot create {}: {e}", partial.display()))?;
         let mut writer = csv::Writer::from_writer(BufWriter::new(file));

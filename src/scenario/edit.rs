@@ -76,6 +76,44 @@ impl ScenarioText {
         self.doc.insert(key, Item::Table(table));
     }
 
+    /// The text without its top-level table `key` (and the tables under it) when that table
+    /// comes last in the file, so that every other line keeps its number; unchanged
+    /// otherwise. A sweep's runs leave out the `[sweep]` table this way: it can hold long
+    /// lists that every run would otherwise copy and parse again.
+    pub fn without_trailing_table(&self, key: &str) -> Self {
+        fn positions(item: &Item, out: &mut Vec<Option<isize>>) {
+            if let Some(t) = item.as_table() {
+                out.push(t.position());
+                for (_, sub) in t.iter() {
+                    positions(sub, out);
+                }
+            } else if let Some(tables) = item.as_array_of_tables() {
+                for t in tables.iter() {
+                    out.push(t.position());
+                    for (_, sub) in t.iter() {
+                        positions(sub, out);
+                    }
+                }
+            }
+        }
+        let Some(own) = self.doc.get(key) else { return self.clone() };
+        let (mut mine, mut others) = (Vec::new(), Vec::new());
+        positions(own, &mut mine);
+        for (k, item) in self.doc.iter() {
+            if k != key {
+                positions(item, &mut others);
+            }
+        }
+        // A table made here (no position) is written at the end.
+        let first_own = mine.iter().map(|p| p.unwrap_or(isize::MAX)).min().unwrap_or(isize::MAX);
+        let last_other = others.iter().flatten().copied().max().unwrap_or(isize::MIN);
+        let mut out = self.clone();
+        if own.is_table() && first_own > last_other {
+            out.doc.remove(key);
+        }
+        out
+    }
+
     /// The value at `path`, as TOML text (`None` if no key is there).
     pub fn get(&self, path: &str) -> Result<Option<String>, String> {
         let parts = split(path)?;
@@ -96,6 +134,95 @@ impl ScenarioText {
     pub fn set(&mut self, path: &str, value: &SetValue) -> Result<(), String> {
         let parts = split(path)?;
         set_in(self.doc.as_item_mut(), &parts, 0, path, value).map(|_| ())
+    }
+
+    /// The values `path` names, each as a path with list entries by position
+    /// (`hinge.*.law.c_f` → `hinge.0.law.c_f`, `hinge.1.law.c_f`, …): how two spellings of
+    /// one value are told apart from two values. Errors as [`ScenarioText::set`]'s.
+    pub fn locations(&self, path: &str) -> Result<Vec<String>, String> {
+        let parts = split(path)?;
+        let mut out = Vec::new();
+        locate(self.doc.as_item(), &parts, 0, path, &mut Vec::new(), &mut out)?;
+        Ok(out)
+    }
+
+    /// Refuses key paths of which two name the same value, or one a value inside the other's
+    /// (`hinge.h1.law.k_theta` and `hinge.*.law.k_theta`, `body.0.mass` and `body.hub.mass`):
+    /// one change would silently undo the other. The error names both paths.
+    pub fn check_distinct(&self, paths: &[&str]) -> Result<(), String> {
+        let located: Vec<Vec<String>> = paths.iter().map(|p| self.locations(p)).collect::<Result<_, _>>()?;
+        let within = |a: &str, b: &str| a == b || b.strip_prefix(a).is_some_and(|rest| rest.starts_with('.'));
+        for (i, a) in located.iter().enumerate() {
+            for (j, b) in located.iter().enumerate().skip(i + 1) {
+                if let Some((x, _)) =
+                    a.iter().flat_map(|x| b.iter().map(move |y| (x, y))).find(|(x, y)| within(x, y) || within(y, x))
+                {
+                    return Err(format!(
+                        "'{}' and '{}' both set {x}: give each value one key path",
+                        paths[i], paths[j]
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Collects in `out` the positional paths below `item` that `parts[at..]` name; `trail` is
+/// the positional path to `item`.
+fn locate(
+    item: &Item,
+    parts: &[&str],
+    at: usize,
+    path: &str,
+    trail: &mut Vec<String>,
+    out: &mut Vec<String>,
+) -> Result<(), String> {
+    let part = parts[at];
+    let before = &parts[..at];
+    let last = at + 1 == parts.len();
+    let down = |next: &Item, key: String, trail: &mut Vec<String>, out: &mut Vec<String>| {
+        trail.push(key);
+        let r = if last {
+            out.push(trail.join("."));
+            Ok(())
+        } else {
+            locate(next, parts, at + 1, path, trail, out)
+        };
+        trail.pop();
+        r
+    };
+    if let Some(tables) = item.as_array_of_tables() {
+        let names: Vec<Option<&str>> = tables.iter().map(|t| t.get("name").and_then(Item::as_str)).collect();
+        let matching: Vec<usize> = if part.contains(['*', '?']) {
+            let m: Vec<usize> =
+                (0..names.len()).filter(|&i| names[i].is_some_and(|n| crate::observe::glob(part, n))).collect();
+            if m.is_empty() {
+                return Err(format!("'{path}': no entry of '{}' has a name matching '{part}'", before.join(".")));
+            }
+            m
+        } else {
+            vec![entry_position(names.iter().copied(), part, before)?]
+        };
+        for i in matching {
+            down(&item[i], i.to_string(), trail, out)?;
+        }
+        return Ok(());
+    }
+    if let Some(array) = item.as_array() {
+        let i = index(part, array.len(), path)?;
+        return down(&item[i], i.to_string(), trail, out);
+    }
+    match item.as_table_like() {
+        Some(t) => match t.get(part) {
+            Some(next) => down(next, part.to_string(), trail, out),
+            None if last => down(&Item::None, part.to_string(), trail, out),
+            None => Err(format!(
+                "'{path}': '{}' has no key '{part}'; only the last key of a path may be new",
+                before.join(".")
+            )),
+        },
+        None => Err(format!("'{path}': '{}' holds {}, not a table", before.join("."), kind(item))),
     }
 }
 
@@ -141,7 +268,10 @@ fn set_last(item: &mut Item, last: &str, parents: &[&str], path: &str, value: &S
                     return Err(format!("'{path}': {x} is not a finite number"));
                 }
                 let whole = x.fract() == 0.0 && x.abs() < 2f64.powi(53);
-                Ok(if old.is_some_and(Value::is_integer) && whole { Value::from(*x as i64) } else { Value::from(*x) })
+                // A new key takes a whole number as an integer: an integer key (max_steps)
+                // refuses 1.0, and a float key takes 1 as well as 1.0.
+                let integer = old.is_none_or(Value::is_integer);
+                Ok(if integer && whole { Value::from(*x as i64) } else { Value::from(*x) })
             }
             SetValue::Toml(text) => {
                 text.parse::<Value>().map_err(|e| format!("'{path}': '{text}' is not a TOML value: {}", e.message()))
@@ -318,6 +448,40 @@ mod tests {
         assert_eq!(d.get("hinge.g.law.c_f").unwrap().as_deref(), Some("0.5"));
         let e = d.set("hinge.x*.law.k_f", &SetValue::Number(1.0)).unwrap_err();
         assert!(e.contains("no entry of 'hinge' has a name matching 'x*'"), "{e}");
+    }
+
+    #[test]
+    fn two_spellings_of_one_value_are_refused() {
+        let text = format!("{TEXT}\n[[hinge]]\nname = \"h2\"\nlaw = {{ k_theta = [1.0, 2.0, 3.0] }}\n");
+        let d = ScenarioText::new(&text, "t.toml", Path::new("")).unwrap();
+        assert_eq!(d.locations("hinge.*.law.k_theta.2").unwrap(), ["hinge.0.law.k_theta.2", "hinge.1.law.k_theta.2"]);
+        for (a, b) in [
+            ("hinge.h1.law.k_theta.1", "hinge.*.law.k_theta.1"),
+            ("body.0.mass", "body.hub.mass"),
+            ("hinge.h2.law.k_theta", "hinge.1.law.k_theta.0"),
+            ("hinge.h1.law.c_f", "hinge.h?.law.c_f"),
+        ] {
+            let e = d.check_distinct(&["run.duration", a, b]).unwrap_err();
+            assert!(e.contains(a) && e.contains(b), "{e}");
+        }
+        d.check_distinct(&[
+            "hinge.h1.law.k_theta.1",
+            "hinge.h2.law.k_theta.1",
+            "body.hub.mass",
+            "hinge.h1.law.k_theta.0",
+        ])
+        .unwrap();
+    }
+
+    #[test]
+    fn a_trailing_table_is_left_out_and_a_middle_one_kept() {
+        let last = format!("{TEXT}\n[sweep]\nruns = 2\n[sweep.parameters]\nx = 1\n");
+        let d = ScenarioText::new(&last, "t.toml", Path::new("")).unwrap();
+        let cut = d.without_trailing_table("sweep").text();
+        assert!(!cut.contains("sweep") && cut.starts_with(TEXT.trim_end()), "{cut}");
+        let middle = format!("[sweep]\nruns = 2\n{TEXT}");
+        let d = ScenarioText::new(&middle, "t.toml", Path::new("")).unwrap();
+        assert_eq!(d.without_trailing_table("sweep").text(), middle, "lines after it would move");
     }
 
     #[test]

@@ -24,6 +24,7 @@ pub struct Sweep {
     spec: SweepSpec,
     metrics: Vec<Resolved>,
     header: Vec<String>,
+    inputs: Vec<std::path::PathBuf>,
 }
 
 /// One run's row of the summary table.
@@ -71,6 +72,7 @@ impl Sweep {
             let x = sample_first(&p.distribution);
             probe.set(&p.path, &SetValue::Number(x)).map_err(|e| fail(format!("[sweep.parameters]: {e}")))?;
         }
+        check_paths(&text, &spec).map_err(|e| fail(format!("[sweep.parameters]: {e}")))?;
         let metrics = resolve(&spec.metrics, &nominal.model).map_err(|e| fail(format!("[sweep.metrics]: {e}")))?;
         let mut header = vec!["run".to_string(), "status".to_string()];
         header.extend(spec.parameters.iter().map(|p| p.path.clone()));
@@ -81,7 +83,14 @@ impl Sweep {
         if let Some(dup) = header.iter().find(|h| !seen.insert(h.as_str())) {
             return Err(fail(format!("[sweep.metrics]: '{dup}' names two columns of the summary; rename the metric")));
         }
-        Ok(Self { text, spec, metrics, header })
+        let text = text.without_trailing_table("sweep");
+        Ok(Self { text, spec, metrics, header, inputs: nominal.inputs })
+    }
+
+    /// The files the nominal scenario reads (the scenario file, if it was read from one, and
+    /// its table files): what no output of the sweep may replace.
+    pub fn inputs(&self) -> &[std::path::PathBuf] {
+        &self.inputs
     }
 
     /// The specification.
@@ -247,6 +256,52 @@ impl Sweep {
 }
 
 /// A value in the distribution's support, to check that its key path can be set.
+/// Refuses, before any run, swept paths that could only give failed or silently wrong runs:
+/// a path into `[sweep]` itself, two paths naming one value, a path whose value is not a
+/// number, and a key the scenario does not hold that a trial edit shows it cannot take (a
+/// misspelt key: every run would fail).
+fn check_paths(text: &ScenarioText, spec: &SweepSpec) -> Result<(), String> {
+    let paths: Vec<&str> = spec.parameters.iter().map(|p| p.path.as_str()).collect();
+    if let Some(p) = paths.iter().find(|p| p.split('.').next() == Some("sweep")) {
+        return Err(format!("'{p}' is inside [sweep] itself: a sweep varies the scenario, not its own table"));
+    }
+    text.check_distinct(&paths)?;
+    for p in &spec.parameters {
+        let mut absent = false;
+        for at in text.locations(&p.path)? {
+            match text.get(&at)? {
+                Some(v) if v.parse::<toml_edit::Value>().is_ok_and(|v| v.is_integer() || v.is_float()) => {}
+                Some(v) => {
+                    return Err(format!("'{}' names {at}, which holds {v}: a sweep draws numbers", p.path));
+                }
+                None => absent = true,
+            }
+        }
+        if absent {
+            let x = typical(&p.distribution);
+            let mut trial = text.clone();
+            trial.set(&p.path, &SetValue::Number(x))?;
+            if let Err(e) = trial.build() {
+                return Err(format!(
+                    "'{}' is not in the scenario, and a trial run's scenario with it set to {x} is refused: {}",
+                    p.path, e.message
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A value a distribution typically draws: its mean or middle, or its first value.
+fn typical(d: &Distribution) -> f64 {
+    match d {
+        Distribution::Normal { mean, .. } => *mean,
+        Distribution::Uniform { low, high } => 0.5 * (low + high),
+        Distribution::LogUniform { low, high } => (low * high).sqrt(),
+        Distribution::Choice(v) | Distribution::List(v) => v[0],
+    }
+}
+
 fn sample_first(d: &Distribution) -> f64 {
     match d {
         Distribution::Normal { mean, .. } => *mean,

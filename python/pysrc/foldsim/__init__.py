@@ -16,12 +16,14 @@
 
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from . import generate
+from . import _foldsim, generate
 from ._foldsim import Scenario as _Scenario
 from ._foldsim import __version__
 from .sweeps import sweep
@@ -91,9 +93,19 @@ class Scenario:
         """Values that are valid but probably not meant."""
         return self._native.warnings
 
-    def get(self, path: str) -> Any:
-        """The value at a key path such as ``hinge.h1.law.k_theta`` (None if left out)."""
-        return self._native.get(path)
+    def get(self, path: str, *default: Any) -> Any:
+        """The value at a key path such as ``hinge.h1.law.k_theta``. KeyError when the
+        scenario has nothing there (a key left out, or one that does not exist), unless a
+        default is given: ``s.get("hinge.h1.law.c_theta", 0.0)``."""
+        if len(default) > 1:
+            raise TypeError(f"get() takes a path and at most one default, not {1 + len(default)} arguments")
+        _path_arg(path, "path")
+        try:
+            return self._native.get(path)
+        except KeyError:
+            if default:
+                return default[0]
+            raise
 
     def with_values(self, changes: dict[str, Any] | None = None, **kwargs: Any) -> "Scenario":
         """A copy with values changed by key path, checked as a file would be:
@@ -101,25 +113,88 @@ class Scenario:
         return Scenario(self._native.with_values({**(changes or {}), **kwargs}))
 
     def save(self, path: str | Path) -> None:
-        """Writes the scenario as a TOML file."""
-        Path(path).write_text(self.text)
+        """Writes the scenario as a TOML file (through ``<path>.partial``, renamed when
+        complete; never over a table file the scenario reads)."""
+        path = Path(_path_arg(path, "path"))
+        _foldsim.check_outputs(self._native.inputs, [("save()", str(path))])
+        partial = path.with_name(path.name + ".partial")
+        partial.write_text(self.text)
+        os.replace(partial, path)
 
-    def run(self, columns: list[str] | None = None) -> Result:
-        """Runs the scenario; `columns` are names or patterns as `run.columns` takes them."""
-        names, arrays, report = self._native.run(columns)
+    def run(self, columns: list[str] | str | None = None, progress: bool | None = None) -> Result:
+        """Runs the scenario; `columns` are names or patterns as `run.columns` takes them, as
+        a list or comma-separated (``"t,h*_yaw"``, as the command line's ``--columns``).
+        `progress`: a progress bar (tqdm) in a notebook or on a terminal; default: when there
+        is one."""
+        if isinstance(columns, str):
+            columns = [c.strip() for c in columns.split(",") if c.strip()]
+        elif columns is not None:
+            columns = list(columns)
+            bad = [c for c in columns if not isinstance(c, str)]
+            if bad:
+                raise TypeError(f"run(columns=...) takes column names (str), not {type(bad[0]).__name__}")
+        bar = _progress_bar(self._native.duration, "s", progress)
+        try:
+            names, arrays, report = self._native.run(columns, bar.update_to if bar else None)
+        finally:
+            if bar:
+                bar.close()
         return Result(names, arrays, report)
 
     def __repr__(self) -> str:
         return f"<foldsim.Scenario {self.title!r}: {len(self.bodies)} bodies, {len(self.hinges)} hinges>"
 
 
+def _path_arg(value: Any, name: str) -> str:
+    """A str or path-like argument as str; TypeError naming the argument otherwise."""
+    if isinstance(value, (str, os.PathLike)):
+        return os.fspath(value)
+    raise TypeError(f"{name} must be a str or a path, not {type(value).__name__}")
+
+
+def _interactive() -> bool:
+    """Whether a person is watching: standard error is a terminal, or this is a notebook."""
+    try:
+        if sys.stderr.isatty():
+            return True
+    except (AttributeError, ValueError):
+        pass
+    return "ipykernel" in sys.modules
+
+
+class _Bar:
+    """A tqdm bar driven by absolute positions (simulated time, runs done)."""
+
+    def __init__(self, total: float, unit: str):
+        from tqdm.auto import tqdm
+
+        self.bar = tqdm(total=total, unit=unit, leave=False, bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} {unit} [{elapsed}<{remaining}]")
+
+    def update_to(self, position: float) -> None:
+        self.bar.update(position - self.bar.n)
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+def _progress_bar(total: float, unit: str, progress: bool | None) -> _Bar | None:
+    """A progress bar when asked for (progress=True) or, by default, when someone watches."""
+    if progress is None:
+        progress = _interactive()
+    if not isinstance(progress, bool):
+        raise TypeError(f"progress must be True, False or None, not {type(progress).__name__}")
+    return _Bar(total, unit) if progress else None
+
+
 def load(path: str | Path) -> Scenario:
     """Reads a scenario file (ValueError naming the file, line and key when it is bad)."""
-    return Scenario(_Scenario.load(str(path)))
+    return Scenario(_Scenario.load(_path_arg(path, "path")))
 
 
 def from_toml(text: str, name: str = "scenario", base: str | Path | None = None) -> Scenario:
     """Reads a scenario from TOML text; table files are read relative to `base`."""
+    if not isinstance(text, str):
+        raise TypeError(f"text must be a str of TOML, not {type(text).__name__}")
     return Scenario(_Scenario.from_toml(text, name, None if base is None else str(base)))
 
 
@@ -127,4 +202,6 @@ def from_dict(d: dict, name: str = "scenario dict", base: str | Path | None = No
     """Builds a scenario from a dict with a scenario file's structure: ``{"run": {...},
     "body": [{...}, ...], "hinge": [{...}, ...], "initial": {...}}``. Errors (ValueError) name
     the key path."""
+    if not isinstance(d, dict):
+        raise TypeError(f"from_dict() takes a dict, not {type(d).__name__}")
     return Scenario(_Scenario.from_dict(d, name, None if base is None else str(base)))

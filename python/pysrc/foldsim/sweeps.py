@@ -10,9 +10,8 @@ from __future__ import annotations
 import functools
 import math
 import os
-import sys
-import time
 import uuid
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -87,25 +86,35 @@ class _Writer:
 
 
 class _Progress:
-    """A one-line progress report on standard error (runs done, failed, time left)."""
+    """Runs done and failed, on a tqdm bar when someone watches (a terminal, a notebook)."""
 
-    def __init__(self, total: int, show: bool):
-        self.total, self.show, self.done, self.failed = total, show, 0, 0
-        self.started = time.monotonic()
+    def __init__(self, total: int, progress: bool | None):
+        from . import _progress_bar
+
+        self.done, self.failed = 0, 0
+        self.bar = _progress_bar(total, "runs", progress)
 
     def add(self, frame) -> None:
         self.done += len(frame)
         self.failed += int((frame["status"] != "ok").sum())
-        if self.show:
-            elapsed = time.monotonic() - self.started
-            left = elapsed / self.done * (self.total - self.done) if self.done else float("nan")
-            sys.stderr.write(f"\rfoldsim sweep: {self.done}/{self.total} runs, {self.failed} failed, {left:.0f} s left ")
-            sys.stderr.flush()
+        if self.bar:
+            self.bar.bar.set_postfix(failed=self.failed, refresh=False)
+            self.bar.update_to(self.done)
 
     def close(self) -> None:
-        if self.show:
-            sys.stderr.write("\r" + " " * 72 + "\r")
-            sys.stderr.flush()
+        if self.bar:
+            self.bar.close()
+
+
+def _count(value, name: str, minimum: int = 1) -> int | None:
+    """An optional whole-number argument, at least `minimum`; TypeError or ValueError naming it."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{name} must be a whole number, not {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be at least {minimum}; got {value}")
+    return value
 
 
 def sweep(
@@ -136,9 +145,17 @@ def sweep(
     client: a ``dask.distributed.Client``: the runs go to its workers in chunks of
         `chunk_size` (default: four chunks per worker thread) and come back as the same table.
     output: also stream the table to this .csv or .parquet file as chunks finish.
-    progress: a one-line progress report on standard error (default: when it is a
-        terminal; then local runs go in chunks of 16 per worker so that it moves).
+    progress: a progress bar (tqdm; default: on a terminal or in a notebook; then local runs
+        go in chunks of 16 per worker so that it moves).
+
+    A sweep in which every run fails raises RuntimeError with the first run's error (the
+    table, if written to `output`, is kept: it says why each run failed).
     """
+    workers = _count(workers, "workers")
+    chunk_size = _count(chunk_size, "chunk_size")
+    runs = _count(runs, "runs")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+        raise ValueError(f"seed must be a whole number >= 0; got {seed!r}")
     native = _native_scenario(scenario)
     spec = None
     if parameters is not None:
@@ -148,14 +165,18 @@ def sweep(
     sw = _foldsim.Sweep(native, spec, runs, seed)
     header = list(sw.header)
     n = sw.runs
+    if output is not None:
+        output = Path(os.fspath(output))
+        _foldsim.check_outputs([str(p) for p in sw.inputs], [("output", str(output))])
     writer = _Writer(output) if output is not None else None
     import pandas as pd
 
-    if progress is None:
-        progress = sys.stderr.isatty()
     report = _Progress(n, progress)
     if client is None:
         workers = workers or os.cpu_count() or 1
+        if workers > n:
+            warnings.warn(f"foldsim.sweep: {workers} workers for {n} runs; using {n}", stacklevel=2)
+            workers = n
         # Streaming to a file or showing progress runs in chunks (each over every worker);
         # otherwise one go.
         size = chunk_size or (max(64, 16 * workers) if writer or progress else n)
@@ -188,4 +209,7 @@ def sweep(
     if writer:
         writer.finish()
     table = pd.concat(parts, ignore_index=True) if parts else _frame({h: [] for h in header}, header)
+    if len(table) and (table["status"] != "ok").all():
+        where = f"; the table of failures is in {output}" if output is not None else ""
+        raise RuntimeError(f"every run of the sweep failed ({len(table)} runs); run 0: {table['error'].iloc[0]}{where}")
     return table

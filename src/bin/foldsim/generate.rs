@@ -10,6 +10,7 @@ pub(crate) fn flag(key: &str) -> String {
 
 pub(crate) fn generate(shape: Shape, p: &foldsim::generate::Params, output: Option<PathBuf>) -> Result<(), String> {
     use foldsim::generate::options::{grid_checked, zfold_checked};
+    check_output(&output)?;
     let text = match shape {
         Shape::Zfold { panels } => zfold_checked(panels, p, &flag)?,
         Shape::Grid { rows, cols } => grid_checked(rows, cols, p, &flag)?,
@@ -18,13 +19,20 @@ pub(crate) fn generate(shape: Shape, p: &foldsim::generate::Params, output: Opti
     write_scenario(&text, output)
 }
 
+/// Writes a scenario to `output` through `<output>.partial` (renamed when complete), or to
+/// standard output.
 pub(crate) fn write_scenario(text: &str, output: Option<PathBuf>) -> Result<(), String> {
     match output {
-        None => {
-            print!("{text}");
-            Ok(())
-        }
-        Some(output) => std::fs::write(&output, text).map_err(|e| format!("cannot write {}: {e}", output.display())),
+        None => crate::out::print(text),
+        Some(output) => foldsim::output::paths::write_atomically(&output, text.as_bytes()),
+    }
+}
+
+/// Checks the output before anything is generated (an existing directory, a writable file).
+pub(crate) fn check_output(output: &Option<PathBuf>) -> Result<(), String> {
+    match output {
+        Some(o) => foldsim::output::paths::check_outputs(&[], &[("-o", o)]),
+        None => Ok(()),
     }
 }
 
@@ -41,6 +49,7 @@ pub(crate) fn generate_flasher(
 ) -> Result<(), String> {
     use foldsim::generate::flasher::FlasherLaws;
     use foldsim::generate::options::{FlasherOptions, panel_model};
+    check_output(&output)?;
     let options = FlasherOptions {
         gores: a.gores,
         rings: a.rings,
@@ -85,7 +94,7 @@ pub(crate) fn generate_flasher(
         .collect();
     let text = format!("{commented}{text}");
     if output.is_some() {
-        print!("{summary}");
+        crate::out::print(&summary)?;
     } else {
         eprint!("{summary}");
     }

@@ -3,6 +3,8 @@
 //! targets), `report.rs` (the end-of-run report), `view.rs` (`animate`, `view`),
 //! `generate.rs` (`generate`), `sweep.rs` (`sweep`).
 
+#[macro_use]
+mod out;
 mod args;
 mod generate;
 mod report;
@@ -21,14 +23,16 @@ fn main() -> ExitCode {
         #[cfg(feature = "animation")]
         Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps, view: page } => {
             let animation_target = animation.map(|path| (path, animation_fps));
-            run::run(&scenario, csv, columns, large_output, quiet, animation_target).and_then(|csv| match page {
-                Some(page) => view::view(&scenario, &csv, &page, animation_fps, &[]),
-                None => Ok(()),
+            run::run(&scenario, csv, columns, large_output, quiet, animation_target, page.as_deref()).and_then(|csv| {
+                match page {
+                    Some(page) => view::view(&scenario, &csv, &page, animation_fps, &[]),
+                    None => Ok(()),
+                }
             })
         }
         #[cfg(not(feature = "animation"))]
         Command::Run { scenario, csv, columns, large_output, quiet } => {
-            run::run(&scenario, csv, columns, large_output, quiet, None).map(|_| ())
+            run::run(&scenario, csv, columns, large_output, quiet, None, None).map(|_| ())
         }
         #[cfg(feature = "animation")]
         Command::Animate { scenario, csv, output, fps } => view::animate(&scenario, &csv, &output, fps),
@@ -76,6 +80,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(message) if out::is_broken_pipe(&message) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE

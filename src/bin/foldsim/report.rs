@@ -9,21 +9,21 @@ use std::path::Path;
 pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     let d = &r.drift;
     let rel = |x: f64, scale: f64| if scale > 0.0 { x / scale } else { x };
-    println!("foldsim run: {}", scenario.title.as_deref().unwrap_or("(untitled)"));
-    println!(
+    outln!("foldsim run: {}", scenario.title.as_deref().unwrap_or("(untitled)"));
+    outln!(
         "  bodies {}, hinges {} ({} loop), integrator {}",
         scenario.model.bodies.len(),
         scenario.model.hinges.len(),
         scenario.model.is_tree_hinge.iter().filter(|t| !**t).count(),
         scenario.settings.integrator.name()
     );
-    println!("  simulated time   {:.6} s", r.simulated);
-    println!("  wall time        {:.3} s", r.wall_seconds);
-    println!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
+    outln!("  simulated time   {:.6} s", r.simulated);
+    outln!("  wall time        {:.3} s", r.wall_seconds);
+    outln!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
     if r.drift.locks > 0 {
-        println!("  rhs evaluations  {} ({} solving for engaged locks)", r.rhs_evaluations, r.constrained_evaluations);
+        outln!("  rhs evaluations  {} ({} solving for engaged locks)", r.rhs_evaluations, r.constrained_evaluations);
     } else {
-        println!("  rhs evaluations  {}", r.rhs_evaluations);
+        outln!("  rhs evaluations  {}", r.rhs_evaluations);
     }
     if r.jacobians > 0 {
         let how = if r.differenced_jacobians > 0 {
@@ -31,30 +31,28 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         } else {
             "exact, by dual numbers"
         };
-        println!("  newton           {} iterations, {} Jacobians ({how})", r.newton_iterations, r.jacobians);
+        outln!("  newton           {} iterations, {} Jacobians ({how})", r.newton_iterations, r.jacobians);
     }
     if let Some(t) = r.stiff_from {
-        println!(
+        outln!(
             "  note: from t = {t:.4} s the explicit steps were limited by stability, not accuracy: stiff hinges; integrator = \"sdirk4\" (implicit) suits this run better"
         );
     }
-    println!("  output rows      {} -> {}", r.rows, csv.display());
-    println!("  drift over the run (max |x(t) - x(0)|):");
-    println!(
-        "    linear momentum P   {:.3e} kg·m/s  ({:.3e} of Σ m|v|)",
-        d.momentum,
-        rel(d.momentum, d.momentum_scale)
-    );
-    println!(
+    outln!("  output rows      {} -> {}", r.rows, csv.display());
+    outln!("  drift over the run (max |x(t) - x(0)|):");
+    outln!("    linear momentum P   {:.3e} kg·m/s  ({:.3e} of Σ m|v|)", d.momentum, rel(d.momentum, d.momentum_scale));
+    outln!(
         "    angular momentum H  {:.3e} kg·m²/s ({:.3e} of Σ |r×mv|+|Iω|)",
         d.angular_momentum,
         rel(d.angular_momentum, d.angular_momentum_scale)
     );
-    println!("    barycenter          {:.3e} m (from Rc(0) + P(0) t / M)", d.barycenter);
+    outln!("    barycenter          {:.3e} m (from Rc(0) + P(0) t / M)", d.barycenter);
     if d.locks > 0 {
-        println!(
+        outln!(
             "    locked directions   {} held within {:.3e} m and {:.3e} rad of their initial values",
-            d.locks, d.locked_translation, d.locked_rotation
+            d.locks,
+            d.locked_translation,
+            d.locked_rotation
         );
         // Engaged locks, a hinge's at one instant on one line: "h1 x, y, rz at t = 0.1 s".
         let engaged: Vec<String> = r
@@ -72,10 +70,10 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             String::new()
         };
         if n == 0 {
-            println!("    locks engaged       none of {all}: no lock carried load, none was solved for");
+            outln!("    locks engaged       none of {all}: no lock carried load, none was solved for");
         } else {
             let more = if engaged.len() > 4 { format!("; and {} more", engaged.len() - 4) } else { String::new() };
-            println!(
+            outln!(
                 "    locks engaged       {n} of {all} (carrying load{rest}): {}{more}",
                 engaged[..engaged.len().min(4)].join("; ")
             );
@@ -84,30 +82,32 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     let e_rel = rel(d.energy, d.energy_initial.abs());
     let scale = d.energy_initial.abs().max(d.dissipated.abs());
     if r.energy_conserving {
-        println!("    energy E = T + V    {:.3e} J ({:.3e} relative; conserved by these laws)", d.energy, e_rel);
+        outln!("    energy E = T + V    {:.3e} J ({:.3e} relative; conserved by these laws)", d.energy, e_rel);
     } else {
-        println!(
+        outln!(
             "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, hysteresis, stops, a 2-D table, or the paper-linear law of docs/model.md §4)",
-            d.energy, e_rel, d.energy_final_change
+            d.energy,
+            e_rel,
+            d.energy_final_change
         );
-        println!(
+        outln!(
             "    dissipated by hinges D  {:.6e} J by the end (damping, hysteresis, stops; for the paper-linear law the work of its non-potential torque)",
             d.dissipated
         );
-        println!(
+        outln!(
             "    balance |Δ(E + D)|      {:.3e} J ({:.3e} relative)",
             d.energy_balance,
             rel(d.energy_balance, scale)
         );
     }
     if let Some(t) = r.released_at {
-        println!("  restraint        released at t = {t:.4} s");
+        outln!("  restraint        released at t = {t:.4} s");
     }
     if let Some(t) = r.deployed_90 {
-        println!("  deployment       90 % of the design radius at t = {t:.4} s");
+        outln!("  deployment       90 % of the design radius at t = {t:.4} s");
     }
     if !r.events.is_empty() || r.branch_events > 0 {
-        println!(
+        outln!(
             "  hinge events: {} located ({} stop or latch, {} hysteresis branch changes or table points)",
             r.events.len() + r.branch_events,
             r.events.len(),
@@ -116,13 +116,13 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     }
     for e in &r.events {
         let h = &scenario.model.hinges[e.hinge];
-        println!("    t = {:.9} s  {}: {}", e.t, h.name, e.description);
+        outln!("    t = {:.9} s  {}: {}", e.t, h.name, e.description);
     }
     for (i, e) in r.events.iter().enumerate() {
         let first_latch = r.events[..i].iter().all(|p| p.hinge != e.hinge || p.kind != EventKind::Latch);
         if e.kind == EventKind::Latch && first_latch {
             let total = r.hinge_dissipated.get(e.hinge).copied().unwrap_or(0.0);
-            println!(
+            outln!(
                 "    energy lost at and after latching, hinge {}: {:.6e} J (dissipated from t = {:.6} s to the end)",
                 scenario.model.hinges[e.hinge].name,
                 total - e.hinge_dissipated,

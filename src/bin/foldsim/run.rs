@@ -4,6 +4,7 @@ use foldsim::observe::Selection;
 use foldsim::output::CsvSink;
 #[cfg(feature = "animation")]
 use foldsim::output::animation::Frames;
+use foldsim::output::paths::check_outputs;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{Sink, simulate};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -26,10 +27,11 @@ pub(crate) fn run(
     large_output: bool,
     quiet: bool,
     animation: Option<(PathBuf, Option<f64>)>,
+    page: Option<&Path>,
 ) -> Result<PathBuf, String> {
     let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
-    if let Some((glb, fps)) = &animation {
-        check_animation_target(glb, *fps, &scenario.inputs)?;
+    if let Some((_, fps)) = &animation {
+        check_fps(*fps)?;
     }
     for w in &scenario.warnings {
         eprintln!("warning: {w}");
@@ -42,7 +44,14 @@ pub(crate) fn run(
         Some(patterns) => Selection::matching(&scenario.model, &patterns).map_err(|m| format!("--columns: {m}"))?,
         None => scenario.columns.clone(),
     };
-    refuse_inputs(&target, &scenario.inputs)?;
+    let mut outputs: Vec<(&str, &Path)> = vec![("the CSV", &target)];
+    if let Some((glb, _)) = &animation {
+        outputs.push(("--animation", glb));
+    }
+    if let Some(page) = page {
+        outputs.push(("--view", page));
+    }
+    check_outputs(&scenario.inputs, &outputs)?;
     let settings = &scenario.settings;
     let rows = (settings.duration / settings.output_step).floor() + 2.0;
     let bytes = rows * columns.names.len() as f64 * BYTES_PER_FIELD;
@@ -131,24 +140,18 @@ impl Frames {
 }
 
 #[cfg(not(feature = "animation"))]
-pub(crate) fn check_animation_target(_: &Path, _: Option<f64>, _: &[PathBuf]) -> Result<(), String> {
-    Ok(())
-}
-
-#[cfg(not(feature = "animation"))]
 pub(crate) fn write_animation(_: &foldsim::model::Model, _: &Frames, _: &Path, _: bool) -> Result<(), String> {
     Ok(())
 }
 
-/// Refuses an animation target that is an input, or a frame rate that is not positive.
-#[cfg(feature = "animation")]
-pub(crate) fn check_animation_target(glb: &Path, fps: Option<f64>, inputs: &[PathBuf]) -> Result<(), String> {
-    if let Some(f) = fps
-        && !(f.is_finite() && f > 0.0)
-    {
-        return Err(format!("the animation's frame rate must be a positive number of frames per second; got {f}"));
+/// Refuses an animation frame rate that is not positive.
+pub(crate) fn check_fps(fps: Option<f64>) -> Result<(), String> {
+    match fps {
+        Some(f) if !(f.is_finite() && f > 0.0) => {
+            Err(format!("the animation's frame rate must be a positive number of frames per second; got {f}"))
+        }
+        _ => Ok(()),
     }
-    refuse_inputs(glb, inputs)
 }
 
 #[cfg(feature = "animation")]
@@ -160,7 +163,7 @@ pub(crate) fn write_animation(
 ) -> Result<(), String> {
     let written = foldsim::output::animation::write_glb(model, frames, glb)?;
     if !quiet {
-        println!(
+        outln!(
             "  animation        {} frames, {:.1} MB -> {}",
             written.frames,
             written.bytes as f64 / 1e6,
@@ -168,21 +171,4 @@ pub(crate) fn write_animation(
         );
     }
     Ok(())
-}
-
-/// Refuses an output path that is one of the run's inputs (the scenario or a table file):
-/// writing there would destroy it.
-pub(crate) fn refuse_inputs(target: &Path, inputs: &[PathBuf]) -> Result<(), String> {
-    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    };
-    match inputs.iter().find(|input| same(target, input)) {
-        Some(input) => Err(format!(
-            "the output {} is an input of this run ({}): write the output to another file",
-            target.display(),
-            input.display()
-        )),
-        None => Ok(()),
-    }
 }

@@ -1,6 +1,6 @@
 //! `foldsim sweep`: a sweep's runs on every core, its table streamed to CSV.
 
-use crate::run::refuse_inputs;
+use foldsim::output::paths::{check_outputs, partial_path};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -24,11 +24,15 @@ pub(crate) fn sweep(
     if let Some(s) = seed {
         sweep.set_seed(s);
     }
-    let workers = match workers {
+    let mut workers = match workers {
         Some(0) => return Err("--workers must be at least 1".into()),
         Some(w) => w,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
+    if workers > sweep.runs() {
+        eprintln!("note: {workers} workers for {} runs: using {}", sweep.runs(), sweep.runs());
+        workers = sweep.runs();
+    }
     let target = output.unwrap_or_else(|| {
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}-sweep.csv"))
@@ -39,10 +43,8 @@ pub(crate) fn sweep(
             target.display()
         ));
     }
-    refuse_inputs(&target, &[path.to_path_buf()])?;
-    let mut partial = target.clone().into_os_string();
-    partial.push(".partial");
-    let partial = PathBuf::from(partial);
+    check_outputs(sweep.inputs(), &[("-o", &target)])?;
+    let partial = partial_path(&target);
     let file = std::fs::File::create(&partial).map_err(|e| format!("cannot write {}: {e}", partial.display()))?;
     let mut table = foldsim::sweep::CsvTable::new(std::io::BufWriter::new(file), sweep.header())?;
 
@@ -61,8 +63,12 @@ pub(crate) fn sweep(
     });
     let started = std::time::Instant::now();
     let mut failed = 0usize;
+    let mut first_error: Option<String> = None;
     let result = sweep.run(0..total, workers, &stop, &mut |row| {
         failed += usize::from(row.error.is_some());
+        if first_error.is_none() {
+            first_error = row.error.as_ref().map(|e| format!("run {}: {e}", row.run));
+        }
         if let Some(b) = &bar {
             b.inc(1);
             b.set_message(format!("({failed} failed)"));
@@ -78,8 +84,16 @@ pub(crate) fn sweep(
     }
     std::fs::rename(&partial, &target)
         .map_err(|e| format!("cannot rename {} to {}: {e}", partial.display(), target.display()))?;
+    if failed == total {
+        return Err(format!(
+            "{}: every run failed ({total} runs; the table of failures is {}); {}",
+            path.display(),
+            target.display(),
+            first_error.unwrap_or_default()
+        ));
+    }
     if !quiet {
-        println!(
+        outln!(
             "foldsim sweep: {total} runs ({failed} failed) on {workers} workers in {:.2} s -> {}",
             started.elapsed().as_secs_f64(),
             target.display()

@@ -1,7 +1,8 @@
 //! `foldsim animate` and `foldsim view`: a finished run's animation and viewer page.
 
-use crate::run::{check_animation_target, write_animation};
+use crate::run::{check_fps, write_animation};
 use foldsim::output::animation::Frames;
+use foldsim::output::paths::check_outputs;
 use foldsim::scenario::Scenario;
 use std::path::Path;
 
@@ -16,7 +17,10 @@ pub(crate) fn finished_run(
 ) -> Result<(Scenario, foldsim::output::animation::Table, Frames, Vec<usize>), String> {
     use foldsim::output::animation::{Table, frames_from_table};
     let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
-    check_animation_target(output, fps, &scenario.inputs)?;
+    check_fps(fps)?;
+    let mut inputs = scenario.inputs.clone();
+    inputs.push(csv.to_path_buf());
+    check_outputs(&inputs, &[("-o", output)])?;
     let table = Table::read(csv)?;
     let (frames, kept) =
         frames_from_table(&scenario.model, &table, fps).map_err(|m| format!("{}: {m}", csv.display()))?;
@@ -42,8 +46,8 @@ pub(crate) fn view(
     let (scenario, table, frames, kept) = finished_run(scenario_path, csv, output, fps)?;
     let title = scenario.title.clone().unwrap_or_else(|| scenario_path.display().to_string());
     let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, columns)?;
-    foldsim::output::animation::write_atomically(output, html.as_bytes())?;
-    println!(
+    foldsim::output::paths::write_atomically(output, html.as_bytes())?;
+    outln!(
         "  viewer           {} frames, {:.1} MB -> {}",
         frames.times.len(),
         html.len() as f64 / 1e6,

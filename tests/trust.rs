@@ -1,0 +1,169 @@
+//! The command line as a careless or unlucky user meets it: outputs named like inputs or like
+//! each other, directories that do not exist, closed pipes and full disks. Nothing may be
+//! destroyed, nothing may panic, and every refusal comes before any work is done.
+
+mod common;
+
+use common::{foldsim, repo};
+use std::path::{Path, PathBuf};
+use std::process::{Output, Stdio};
+
+fn tmp(name: &str) -> PathBuf {
+    common::tmp("trust", name)
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+/// Copies an example (and the tables it reads) into `dir`, returning the copy's path.
+fn example(dir: &Path, name: &str) -> PathBuf {
+    let to = dir.join(name);
+    std::fs::copy(repo(&format!("examples/{name}")), &to).unwrap();
+    let tables = dir.join("tables");
+    std::fs::create_dir_all(&tables).unwrap();
+    for e in std::fs::read_dir(repo("examples/tables")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), tables.join(e.file_name())).unwrap();
+    }
+    to
+}
+
+fn refused(o: &Output, needles: &[&str]) {
+    let t = text(o);
+    assert!(!o.status.success(), "accepted: {t}");
+    assert!(!t.contains("panicked"), "{t}");
+    for n in needles {
+        assert!(t.contains(n), "lacks '{n}': {t}");
+    }
+}
+
+#[test]
+fn animate_and_view_never_replace_the_csv() {
+    let dir = tmp("readback");
+    let s = example(&dir, "paper-1panel.toml");
+    let csv = dir.join("run.csv");
+    let o = foldsim().arg("run").arg(&s).arg("--csv").arg(&csv).arg("-q").output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let before = std::fs::read(&csv).unwrap();
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    for spelling in ["run.csv", "./run.csv", "sub/../run.csv"] {
+        for cmd in ["animate", "view"] {
+            let o = foldsim()
+                .current_dir(&dir)
+                .args([cmd, "paper-1panel.toml", "--csv", "run.csv", "-o", spelling])
+                .output()
+                .unwrap();
+            refused(&o, &["is an input", spelling]);
+        }
+    }
+    assert_eq!(std::fs::read(&csv).unwrap(), before, "the CSV is intact");
+}
+
+#[test]
+fn run_outputs_are_distinct_and_checked_before_the_run() {
+    let dir = tmp("outputs");
+    let s = example(&dir, "paper-1panel.toml");
+    let run = |args: &[&str]| foldsim().current_dir(&dir).arg("run").arg(&s).args(args).output().unwrap();
+    refused(&run(&["--csv", "o.csv", "--view", "o.csv"]), &["same file", "--view"]);
+    refused(&run(&["--csv", "o.csv", "--animation", "./o.csv"]), &["same file", "--animation"]);
+    refused(&run(&["--csv", "o.csv", "--animation", "a.glb", "--view", "sub/../a.glb"]), &["does not exist"]);
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    refused(&run(&["--csv", "o.csv", "--animation", "a.glb", "--view", "sub/../a.glb"]), &["same file"]);
+    refused(&run(&["--csv", "o.csv", "--animation", "nodir/x.glb"]), &["nodir", "does not exist"]);
+    refused(&run(&["--csv", "o.csv", "--view", "sub"]), &["is a directory"]);
+    refused(&run(&["--csv", "paper-1panel.toml"]), &["is an input"]);
+    // None of the refusals ran anything or left a file.
+    assert!(!dir.join("o.csv").exists() && !dir.join("o.csv.partial").exists() && !dir.join("a.glb").exists());
+}
+
+#[test]
+fn sweep_output_never_replaces_a_table_the_scenario_reads() {
+    let dir = tmp("sweep-table");
+    let s = example(&dir, "zfold-tape-latch.toml");
+    let mut t = std::fs::read_to_string(&s).unwrap().replace("duration = 30.0", "duration = 0.1");
+    t.push_str("\n[sweep]\nruns = 2\nseed = 1\n[sweep.parameters]\n\"body.p1.mass\" = { distribution = \"uniform\", low = 0.9, high = 1.1 }\n");
+    std::fs::write(&s, t).unwrap();
+    let table = dir.join("tables/tape-spring-increasing.csv");
+    let before = std::fs::read(&table).unwrap();
+    let o = foldsim()
+        .current_dir(&dir)
+        .args(["sweep", "zfold-tape-latch.toml", "-o", "tables/tape-spring-increasing.csv"])
+        .output()
+        .unwrap();
+    refused(&o, &["is an input", "tape-spring-increasing.csv"]);
+    assert_eq!(std::fs::read(&table).unwrap(), before);
+    let o = foldsim().current_dir(&dir).args(["sweep", "zfold-tape-latch.toml", "-o", "tables"]).output().unwrap();
+    refused(&o, &["is a directory"]);
+    let o = foldsim().current_dir(&dir).args(["sweep", "zfold-tape-latch.toml", "-o", "nodir/s.csv"]).output().unwrap();
+    refused(&o, &["does not exist"]);
+}
+
+#[test]
+fn generate_writes_through_a_partial_file_and_checks_its_output_first() {
+    let dir = tmp("generate");
+    let o = foldsim()
+        .current_dir(&dir)
+        .args(["generate", "zfold", "--panels", "3", "-o", "nodir/z.toml"])
+        .output()
+        .unwrap();
+    refused(&o, &["nodir", "does not exist"]);
+    let o = foldsim().current_dir(&dir).args(["generate", "zfold", "--panels", "3", "-o", "z.toml"]).output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(dir.join("z.toml").is_file() && !dir.join("z.toml.partial").exists());
+}
+
+/// Runs `args` with standard output read by `head -c 1` (which closes the pipe after one
+/// byte), returning the status and standard error.
+fn into_closed_pipe(args: &[&str], dir: &Path) -> (std::process::ExitStatus, String) {
+    let mut child =
+        foldsim().current_dir(dir).args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    // Read one byte, then close our end: the next writes meet a closed pipe.
+    {
+        use std::io::Read;
+        let mut out = child.stdout.take().unwrap();
+        let mut byte = [0u8; 1];
+        let _ = out.read(&mut byte);
+    }
+    let o = child.wait_with_output().unwrap();
+    (o.status, String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+#[test]
+fn closed_pipes_end_quietly() {
+    let dir = tmp("pipe");
+    let s = example(&dir, "paper-3panel.toml");
+    let s = s.to_str().unwrap();
+    for args in [
+        vec!["generate", "flasher", "--gores", "6", "--rings", "3"],
+        vec!["generate", "zfold", "--panels", "200"],
+        vec!["run", s, "--csv", "/dev/stdout", "-q"],
+        vec!["run", s, "--csv", "r.csv"],
+    ] {
+        let (status, stderr) = into_closed_pipe(&args, &dir);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(status.success(), "{args:?}: {status} {stderr}");
+        assert!(!stderr.contains("error"), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn a_full_disk_is_an_error_not_a_panic() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let dir = tmp("full");
+    let s = example(&dir, "paper-1panel.toml");
+    for args in [
+        vec!["generate".to_string(), "zfold".into(), "--panels".into(), "3".into()],
+        vec!["run".into(), s.display().to_string(), "--csv".into(), "r.csv".into()],
+    ] {
+        let full = std::fs::File::create("/dev/full").unwrap();
+        let o = foldsim().current_dir(&dir).args(&args).stdout(full).output().unwrap();
+        let t = text(&o);
+        assert!(!o.status.success(), "{args:?}: {t}");
+        assert!(t.contains("No space left") && !t.contains("panicked"), "{args:?}: {t}");
+    }
+    // The run's own output was complete before its report met the full disk.
+    assert!(dir.join("r.csv").is_file());
+}

@@ -132,6 +132,28 @@ impl<T: Real> Euler321<T> {
 }
 
 impl Euler321 {
+    /// 3-2-1 angles of an attitude DCM `[X N]` that are right at every attitude, for output.
+    /// Pitch is `atan2(−C₀₂, √(C₀₀² + C₀₁²))` (exact near ±90°, where `asin` loses half its
+    /// digits). At pitch ±90° (gimbal lock: `cos θ2` below 1e-8) yaw and roll are not
+    /// separately defined, only `θ3 ∓ θ1` is: roll is taken as `roll_hint` (0, or the previous
+    /// value for continuity) and yaw from the second row, where `C₁₀ = sin(θ3 − θ1)`,
+    /// `C₁₁ = cos(θ3 − θ1)` at +90° and `C₁₀ = −sin(θ3 + θ1)`, `C₁₁ = cos(θ3 + θ1)` at −90°
+    /// (Schaub & Junkins, *Analytical Mechanics of Space Systems*, §3.3, the 3-2-1 DCM).
+    /// Away from the lock the angles are [`Euler321::from_dcm`]'s. The threshold balances the
+    /// two errors: `ε/cos θ2` of the general formula and `cos θ2` of the lock formula, both
+    /// about 1e-8 rad there.
+    pub fn attitude_from_dcm(dcm: &Mat3, roll_hint: f64) -> Euler321 {
+        let c2 = dcm[(0, 0)].hypot(dcm[(0, 1)]);
+        let pitch = (-dcm[(0, 2)]).atan2(c2);
+        if c2 >= 1e-8 {
+            let e = Euler321::from_dcm(dcm);
+            return Euler321 { pitch, ..e };
+        }
+        let (s, c) = (dcm[(1, 0)], dcm[(1, 1)]);
+        let yaw = if pitch > 0.0 { roll_hint - s.atan2(c) } else { (-s).atan2(c) - roll_hint };
+        Euler321 { yaw: unwrap_near(yaw, 0.0), pitch, roll: roll_hint }
+    }
+
     /// Angles from yaw, pitch, roll in rad.
     pub fn new(yaw: f64, pitch: f64, roll: f64) -> Self {
         Self { yaw, pitch, roll }
@@ -433,6 +455,28 @@ mod tests {
         let dcm = Euler321::new(1.0, 0.5, -2.5).to_dcm().transpose();
         let q = quat_from_dcm(&dcm);
         assert!((dcm_from_quat(&q) - dcm).abs().max() < 1e-14);
+    }
+
+    /// Attitude angles give back their DCM at every pitch, ±90° (gimbal lock) and its
+    /// neighbourhood included, to 1e-8 (the lock branch's error is cos θ2 ≤ 1e-8; elsewhere
+    /// round-off); at the lock roll is the hint given.
+    #[test]
+    fn attitude_angles_are_right_at_every_pitch() {
+        let half = std::f64::consts::FRAC_PI_2;
+        let mut worst = 0.0f64;
+        for &pitch in &[0.3, -1.2, half, -half, half - 1e-9, -half + 1e-9, half - 1e-6, half - 1e-10] {
+            for &(yaw, roll) in &[(0.4, -2.0), (-3.0, 1.0), (2.5, 2.5), (0.0, 0.0)] {
+                let dcm = Euler321::new(yaw, pitch, roll).to_dcm();
+                for hint in [0.0, 0.7] {
+                    let e = Euler321::attitude_from_dcm(&dcm, hint);
+                    worst = worst.max((e.to_dcm() - dcm).abs().max());
+                    if (e.pitch.abs() - half).abs() < 1e-12 {
+                        assert_eq!(e.roll, hint);
+                    }
+                }
+            }
+        }
+        assert!(worst < 1e-8, "{worst:e}");
     }
 
     /// The derivative of [`atan2`] is `(x dy − y dx) / (x² + y²)` on the axes too (where

@@ -15,8 +15,12 @@ pub struct Observation {
     pub hub_r_in_n: Vec3,
     /// `ᴮR_{B/N} = [BN] R_{B/N}`, m, hub components.
     pub hub_r_in_hub: Vec3,
-    /// `θ_{B/N}`, continuous in time (yaw and roll unwrapped), rad.
+    /// `θ_{B/N}`, continuous in time (yaw and roll unwrapped; at pitch ±90° roll keeps its
+    /// last value, [`Euler321::attitude_from_dcm`]), rad.
     pub hub_theta: Euler321,
+    /// The hub's attitude quaternion (Euler parameters) `β_{B/N}` = (w, x, y, z), scalar first,
+    /// N to hub: its DCM is `[B N]` (Schaub & Junkins §3.5); unit, continuous in time.
+    pub hub_quat: [f64; 4],
     /// `ω_{B/N}`, rad/s, hub components.
     pub hub_omega_in_hub: Vec3,
     /// Per hinge: δ, m, A0 components.
@@ -34,8 +38,12 @@ pub struct Observation {
     pub hinge_torque_in_a: Vec<Vec3>,
     /// Per body: CoM `R_i`, m, N components.
     pub body_r_in_n: Vec<Vec3>,
-    /// Per body: `θ_{i/N}`, principal values, rad.
+    /// Per body: `θ_{i/N}`, principal values (roll 0 at pitch ±90°,
+    /// [`Euler321::attitude_from_dcm`]), rad.
     pub body_theta: Vec<Euler321>,
+    /// Per body: the attitude quaternion `β_{i/N}` = (w, x, y, z), scalar first, N to body (DCM
+    /// `[i N]`), unit, continuous in time: right at every attitude, where 3-2-1 angles are not.
+    pub body_quat: Vec<[f64; 4]>,
     /// Per body: CoM velocity `Ṙ_i`, m/s, N components.
     pub body_v_in_n: Vec<Vec3>,
     /// Per body: `ω_{i/N}`, rad/s, body components.
@@ -133,7 +141,9 @@ impl Observer {
     ) -> Observation {
         let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
         let hub = &motions[0];
-        let hub_theta = Euler321::from_dcm(&hub.dcm_n_b.transpose()).unwrapped_near(&self.hub_theta_ref);
+        let hub_theta = Euler321::attitude_from_dcm(&hub.dcm_n_b.transpose(), self.hub_theta_ref.roll)
+            .unwrapped_near(&self.hub_theta_ref);
+        let body_quat: Vec<[f64; 4]> = (0..model.bodies.len()).map(|i| unit_quaternion(y, i)).collect();
         self.hub_theta_ref = hub_theta;
 
         let nh = model.hinges.len();
@@ -184,6 +194,7 @@ impl Observer {
             hub_r_in_n: hub.r_in_n,
             hub_r_in_hub: hub.dcm_n_b.transpose() * hub.r_in_n,
             hub_theta,
+            hub_quat: body_quat[0],
             hub_omega_in_hub: hub.omega_in_body(),
             hinge_delta_in_a0,
             hinge_theta,
@@ -192,7 +203,8 @@ impl Observer {
             hinge_force_in_a0,
             hinge_torque_in_a,
             body_r_in_n: motions.iter().map(|m| m.r_in_n).collect(),
-            body_theta: motions.iter().map(|m| Euler321::from_dcm(&m.dcm_n_b.transpose())).collect(),
+            body_theta: motions.iter().map(|m| Euler321::attitude_from_dcm(&m.dcm_n_b.transpose(), 0.0)).collect(),
+            body_quat,
             body_v_in_n: motions.iter().map(|m| m.v_in_n).collect(),
             body_omega_in_body: motions.iter().map(|m| m.omega_in_body()).collect(),
             barycenter_in_n: barycenter,
@@ -209,6 +221,14 @@ impl Observer {
             deployed_fraction: if self.design_radius > 0.0 { deployed_radius / self.design_radius } else { f64::NAN },
         }
     }
+}
+
+/// Body `i`'s quaternion `q_{N←i}` from the state (w, x, y, z), normalized: the integrated
+/// one, so continuous in time (no sign flips between rows).
+fn unit_quaternion(y: &[f64], i: usize) -> [f64; 4] {
+    let q = &y[crate::state::BODY_STATE_LEN * i + crate::state::QUAT..][..4];
+    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
 }
 
 /// The largest distance from the axis through `center` along the unit vector `axis` of any
@@ -258,10 +278,15 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     };
     const XYZ: [&str; 3] = ["x", "y", "z"];
     const YPR: [&str; 3] = ["yaw", "pitch", "roll"];
+    const WXYZ: [&str; 4] = ["w", "x", "y", "z"];
+    let quat = |c: &mut Vec<Column>, prefix: &str| {
+        c.extend(WXYZ.map(|a| Column { name: format!("{prefix}_{a}"), default: true }))
+    };
     c.push(Column { name: "t".into(), default: true });
     push(&mut c, "R_B", XYZ, true);
     push(&mut c, "BR_B", XYZ, true);
     push(&mut c, "theta_B", YPR, true);
+    quat(&mut c, "q_B");
     push(&mut c, "w_B", XYZ, true);
     for h in &model.hinges {
         push(&mut c, &format!("{}_delta", h.name), XYZ, true);
@@ -274,6 +299,7 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     for b in &model.bodies {
         push(&mut c, &format!("{}_R", b.name), XYZ, true);
         push(&mut c, &b.name, YPR, true);
+        quat(&mut c, &format!("{}_q", b.name));
         push(&mut c, &format!("{}_v", b.name), XYZ, false);
         push(&mut c, &format!("{}_w", b.name), XYZ, false);
     }
@@ -293,6 +319,7 @@ pub fn row(o: &Observation) -> Vec<f64> {
     v(&mut r, &o.hub_r_in_n);
     v(&mut r, &o.hub_r_in_hub);
     a(&mut r, &o.hub_theta);
+    r.extend_from_slice(&o.hub_quat);
     v(&mut r, &o.hub_omega_in_hub);
     for i in 0..o.hinge_theta.len() {
         v(&mut r, &o.hinge_delta_in_a0[i]);
@@ -305,6 +332,7 @@ pub fn row(o: &Observation) -> Vec<f64> {
     for i in 0..o.body_r_in_n.len() {
         v(&mut r, &o.body_r_in_n[i]);
         a(&mut r, &o.body_theta[i]);
+        r.extend_from_slice(&o.body_quat[i]);
         v(&mut r, &o.body_v_in_n[i]);
         v(&mut r, &o.body_omega_in_body[i]);
     }

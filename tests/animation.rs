@@ -1,8 +1,10 @@
 //! Animation files (docs/outputs.md): the poses read back from a `.glb` equal the CSV's body
-//! positions and orientations at every frame, to 1e-6 m and 1e-6 rad (the file stores f32:
-//! 6e-8 relative, so ~1e-7 m at these examples' sizes of a few metres); the file written
-//! from a finished run's CSV is the run's own, byte for byte (the CSV's shortest round-trip
-//! digits give back the same doubles).
+//! positions and quaternions at every frame, to 1e-6 m and 1e-6 rad (the file stores f32:
+//! 6e-8 relative, so ~1e-7 m at these examples' sizes of a few metres); the CSV's 3-2-1
+//! angles give the same attitude as its quaternions to 1e-7 rad at every angle, pitch ±90°
+//! included (radial-spin's panels start upright; the gimbal-lock branch is exact to about
+//! 1e-8 rad); the file written from a finished run's CSV is the run's own, byte for byte
+//! (the CSV's shortest round-trip digits give back the same doubles).
 #![cfg(feature = "animation")]
 
 mod common;
@@ -13,7 +15,7 @@ use nalgebra::{Quaternion, Rotation3, UnitQuaternion};
 
 #[test]
 fn animation_poses_match_the_csv_and_the_csv_gives_the_same_file() {
-    for example in ["zfold-tape-latch", "flasher-small", "paper-3panel"] {
+    for example in ["zfold-tape-latch", "flasher-small", "paper-3panel", "radial-spin"] {
         let dir = tmp("animation", example);
         let (csv, glb, again) = (dir.join("run.csv"), dir.join("run.glb"), dir.join("again.glb"));
         let scenario = repo(&format!("examples/{example}.toml"));
@@ -33,10 +35,11 @@ fn animation_poses_match_the_csv_and_the_csv_gives_the_same_file() {
         assert_eq!(back.times.len(), table.rows.len(), "{example}: a frame per row");
         let s = scenario_at(&scenario);
         assert_eq!(back.nodes.len(), s.model.bodies.len());
-        let (mut worst_r, mut worst_angle) = (0.0f64, 0.0f64);
+        let (mut worst_r, mut worst_angle, mut worst_euler) = (0.0f64, 0.0f64, 0.0f64);
         for (name, translations, rotations) in &back.nodes {
             let c = |suffix: &str| table.col(&format!("{name}{suffix}"));
             let (x, y, z, yaw, pitch, roll) = (c("_R_x"), c("_R_y"), c("_R_z"), c("_yaw"), c("_pitch"), c("_roll"));
+            let qc = [c("_q_w"), c("_q_x"), c("_q_y"), c("_q_z")];
             for (k, row) in table.rows.iter().enumerate() {
                 assert!((f64::from(back.times[k]) - row[table.col("t")]).abs() <= 1e-6 * row[table.col("t")].max(1.0));
                 let t = translations[k];
@@ -52,13 +55,19 @@ fn animation_poses_match_the_csv_and_the_csv_gives_the_same_file() {
                     f64::from(q[1]),
                     f64::from(q[2]),
                 ));
-                let dcm_n_b = Euler321::new(row[yaw], row[pitch], row[roll]).to_dcm().transpose();
-                let csv_q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(dcm_n_b));
+                let csv_q =
+                    UnitQuaternion::from_quaternion(Quaternion::new(row[qc[0]], row[qc[1]], row[qc[2]], row[qc[3]]));
                 worst_angle = worst_angle.max(file.angle_to(&csv_q));
+                let dcm_n_b = Euler321::new(row[yaw], row[pitch], row[roll]).to_dcm().transpose();
+                let euler_q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(dcm_n_b));
+                worst_euler = worst_euler.max(euler_q.angle_to(&csv_q));
             }
         }
-        eprintln!("{example}: poses read back to {worst_r:.1e} m and {worst_angle:.1e} rad");
+        eprintln!(
+            "{example}: poses read back to {worst_r:.1e} m and {worst_angle:.1e} rad; angles against quaternions {worst_euler:.1e} rad"
+        );
         assert!(worst_r <= 1e-6 && worst_angle <= 1e-6, "{example}: {worst_r:e} m, {worst_angle:e} rad");
+        assert!(worst_euler <= 1e-7, "{example}: the CSV's angles are {worst_euler:e} rad off its quaternions");
         let out =
             foldsim().arg("animate").arg(&scenario).arg("--csv").arg(&csv).arg("-o").arg(&again).output().unwrap();
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

@@ -129,7 +129,7 @@ fn an_input_is_never_written_over() {
     std::fs::write(&scenario, &text).unwrap();
     let out = foldsim().arg("run").arg(&scenario).arg("--csv").arg(&scenario).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("is an input of this run"), "{err}");
+    assert!(!out.status.success() && err.contains("is an input of this command"), "{err}");
     assert_eq!(std::fs::read_to_string(&scenario).unwrap(), text);
 
     let table = common::repo("examples/tables/fold-twist.csv");

@@ -167,3 +167,67 @@ fn a_full_disk_is_an_error_not_a_panic() {
     // The run's own output was complete before its report met the full disk.
     assert!(dir.join("r.csv").is_file());
 }
+
+#[test]
+fn animate_and_view_refuse_bad_rows_and_warn_of_foreign_columns() {
+    let dir = tmp("rows");
+    let s = example(&dir, "paper-1panel.toml");
+    let csv = dir.join("run.csv");
+    let o = foldsim().arg("run").arg(&s).arg("--csv").arg(&csv).arg("-q").output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let good = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = good.lines().collect();
+    let edit = |line: usize, f: &dyn Fn(&str) -> String| -> String {
+        lines
+            .iter()
+            .enumerate()
+            .map(|(i, l)| if i + 1 == line { f(l) } else { l.to_string() })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let hub_x = lines[0].split(',').position(|c| c == "hub_R_x").unwrap();
+    let field = |l: &str, col: usize, v: &str| {
+        let mut parts: Vec<String> = l.split(',').map(str::to_string).collect();
+        parts[col] = v.to_string();
+        parts.join(",")
+    };
+    let cases = [
+        (edit(5, &|l| field(l, 0, "NaN")), "line 5: t = NaN"),
+        (edit(5, &|l| field(l, 0, "inf")), "line 5: t = inf"),
+        (edit(6, &|l| field(l, 0, "0")), "line 6: t = 0 s does not come after"),
+        (edit(7, &|l| field(l, hub_x, "NaN")), "line 7: hub_R_x = NaN is not finite"),
+    ];
+    for (k, (bad, says)) in cases.iter().enumerate() {
+        let f = dir.join(format!("bad{k}.csv"));
+        std::fs::write(&f, bad).unwrap();
+        for cmd in ["animate", "view"] {
+            let o = foldsim()
+                .current_dir(&dir)
+                .arg(cmd)
+                .arg(&s)
+                .arg("--csv")
+                .arg(&f)
+                .arg("-o")
+                .arg(dir.join("x.out"))
+                .output()
+                .unwrap();
+            refused(&o, &[says]);
+        }
+    }
+    // Another scenario's CSV: a warning that names its columns.
+    let other = dir.join("other.csv");
+    std::fs::write(
+        &other,
+        good.replacen("t,", "t,zz_extra,", 1)
+            .lines()
+            .enumerate()
+            .map(|(i, l)| if i == 0 { l.to_string() } else { l.replacen(",", ",0,", 1) })
+            .collect::<Vec<_>>()
+            .join("\n"),
+    )
+    .unwrap();
+    let o =
+        foldsim().arg("animate").arg(&s).arg("--csv").arg(&other).arg("-o").arg(dir.join("o.glb")).output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("warning") && text(&o).contains("zz_extra"), "{}", text(&o));
+}

@@ -82,7 +82,7 @@ fn value_in(obj: &Bound<'_, PyAny>, path: &str, nesting: &mut Nesting) -> PyResu
     }
     // NumPy arrays and scalars: their Python values (`tolist()` gives nested lists of
     // Python numbers, or the number itself).
-    if obj.get_type().module().is_ok_and(|m| m.to_string() == "numpy")
+    if obj.get_type().module().is_ok_and(|m| m == "numpy")
         && let Ok(plain) = obj.call_method0("tolist")
     {
         return value_in(&plain, path, nesting);

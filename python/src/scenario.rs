@@ -5,7 +5,7 @@ use crate::convert;
 use foldsim::observe::{Observation, Selection, row};
 use foldsim::scenario::{ScenarioError, ScenarioText, SetValue};
 use numpy::{IntoPyArray, PyArray1};
-use pyo3::exceptions::{PyKeyError, PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyKeyboardInterrupt, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyInt};
 use std::path::PathBuf;
@@ -130,6 +130,15 @@ impl Scenario {
     /// A copy with the values of `changes` ({key path: value}) set and checked.
     fn with_values(&self, changes: &Bound<'_, PyDict>) -> PyResult<Self> {
         let mut text = self.text.clone();
+        let paths: Vec<String> = changes
+            .keys()
+            .iter()
+            .map(|k| {
+                k.extract::<String>().map_err(|_| PyTypeError::new_err("with_values() takes key paths (str) as keys"))
+            })
+            .collect::<PyResult<_>>()?;
+        let named: Vec<&str> = paths.iter().map(String::as_str).collect();
+        self.text.check_distinct(&named).map_err(PyValueError::new_err)?;
         for (k, v) in changes.iter() {
             let path: String = k.extract()?;
             text.set(&path, &set_value(&v, &path)?).map_err(PyValueError::new_err)?;

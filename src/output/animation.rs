@@ -40,7 +40,7 @@ pub struct Frames {
     /// Per frame then per body: `[N i]` as a unit quaternion (x, y, z, w).
     pub rotations: Vec<[f32; 4]>,
     /// The last row seen, if it was not kept.
-    pending: Option<(f64, Vec<Vec3>, Vec<Euler321>)>,
+    pending: Option<(f64, Vec<Vec3>, Vec<[f64; 4]>)>,
 }
 
 impl Frames {
@@ -52,29 +52,30 @@ impl Frames {
 
     /// Adds the poses of one output row (if it is due).
     pub fn push(&mut self, o: &Observation) {
-        self.push_angles(o.t, &o.body_r_in_n, &o.body_theta);
+        self.push_poses(o.t, &o.body_r_in_n, &o.body_quat);
     }
 
-    /// Adds a frame from positions in N and 3-2-1 angles `θ_{i/N}` (if it is due: the first
-    /// row, then rows at least the frame interval apart; [`Self::finish`] adds the last).
-    pub fn push_angles(&mut self, t: f64, r_in_n: &[Vec3], theta: &[Euler321]) {
+    /// Adds a frame from positions in N and attitude quaternions `β_{i/N}` (w, x, y, z; the
+    /// rotation `[N i]` as an operator) if it is due: the first row, then rows at least the
+    /// frame interval apart; [`Self::finish`] adds the last.
+    pub fn push_poses(&mut self, t: f64, r_in_n: &[Vec3], quat: &[[f64; 4]]) {
         if let Some(&last) = self.times.last()
             && t < last + self.interval * (1.0 - 1e-9)
         {
-            self.pending = Some((t, r_in_n.to_vec(), theta.to_vec()));
+            self.pending = Some((t, r_in_n.to_vec(), quat.to_vec()));
             return;
         }
         self.pending = None;
         self.times.push(t);
         self.translations.extend(r_in_n.iter().map(|r| [r.x as f32, r.y as f32, r.z as f32]));
-        self.rotations.extend(theta.iter().map(|th| rotation_f32(&quaternion_n_b(&th.to_dcm().transpose()))));
+        self.rotations.extend(quat.iter().map(rotation_f32));
     }
 
     /// Adds the last row if it was skipped, so the animation ends where the run did.
     pub fn finish(&mut self) {
-        if let Some((t, r, th)) = self.pending.take() {
+        if let Some((t, r, q)) = self.pending.take() {
             self.interval = 0.0;
-            self.push_angles(t, &r, &th);
+            self.push_poses(t, &r, &q);
         }
     }
 
@@ -84,9 +85,12 @@ impl Frames {
     }
 }
 
-/// The rotation `[N b]` as a unit quaternion.
-fn quaternion_n_b(dcm_n_b: &Mat3) -> UnitQuaternion<f64> {
-    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(*dcm_n_b))
+/// The rotation `[N b]` of 3-2-1 angles `θ_{b/N}` as a quaternion (w, x, y, z): for CSVs
+/// written before the quaternion columns.
+fn quaternion_of_angles(theta: &Euler321) -> [f64; 4] {
+    let dcm_n_b: Mat3 = theta.to_dcm().transpose();
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(dcm_n_b));
+    [q.w, q.i, q.j, q.k]
 }
 
 /// A CSV of `foldsim run`: its header and rows, every field a number.
@@ -136,14 +140,38 @@ impl Table {
     }
 }
 
-/// The frames of a finished run from its CSV (every body's `_R_x/y/z` and
-/// `_yaw/_pitch/_roll` columns), about `fps` per second if given, and the rows they came from.
-pub fn frames_from_table(model: &Model, table: &Table, fps: Option<f64>) -> Result<(Frames, Vec<usize>), String> {
+/// The frames of a finished run from its CSV (every body's `_R_x/y/z` and `_q_w/x/y/z`
+/// columns, or `_yaw/_pitch/_roll` in a CSV written before the quaternions), about `fps` per
+/// second if given; the rows they came from; and warnings (columns the scenario does not
+/// make: the CSV may be another scenario's). Times must be finite and increase, poses be
+/// finite: the first row that is not is named.
+pub fn frames_from_table(
+    model: &Model,
+    table: &Table,
+    fps: Option<f64>,
+) -> Result<(Frames, Vec<usize>, Vec<String>), String> {
     let t_col = table.column("t").ok_or("no column 't'")?;
+    let known: std::collections::HashSet<String> =
+        crate::observe::catalogue(model).into_iter().map(|c| c.name).collect();
+    let foreign: Vec<&str> = table.header.iter().filter(|h| !known.contains(*h)).map(String::as_str).collect();
+    let mut warnings = Vec::new();
+    if !foreign.is_empty() {
+        warnings.push(format!(
+            "{} column(s) of the CSV are not outputs of this scenario (e.g. {}): is it another scenario's run?",
+            foreign.len(),
+            foreign.iter().take(4).copied().collect::<Vec<_>>().join(", ")
+        ));
+    }
+    let quaternions = model.bodies.iter().all(|b| table.column(&format!("{}_q_w", b.name)).is_some());
+    let parts: &[&str] = if quaternions {
+        &["_R_x", "_R_y", "_R_z", "_q_w", "_q_x", "_q_y", "_q_z"]
+    } else {
+        &["_R_x", "_R_y", "_R_z", "_yaw", "_pitch", "_roll"]
+    };
     let mut cols = Vec::new();
     let mut missing = Vec::new();
     for b in &model.bodies {
-        let names = ["_R_x", "_R_y", "_R_z", "_yaw", "_pitch", "_roll"].map(|s| format!("{}{s}", b.name));
+        let names: Vec<String> = parts.iter().map(|s| format!("{}{s}", b.name)).collect();
         let found: Vec<Option<usize>> = names.iter().map(|n| table.column(n)).collect();
         missing.extend(names.iter().zip(&found).filter(|(_, f)| f.is_none()).map(|(n, _)| n.clone()));
         cols.push(found.into_iter().flatten().collect::<Vec<usize>>());
@@ -151,18 +179,47 @@ pub fn frames_from_table(model: &Model, table: &Table, fps: Option<f64>) -> Resu
     if !missing.is_empty() {
         let shown: Vec<&str> = missing.iter().take(6).map(String::as_str).collect();
         return Err(format!(
-            "the animation needs every body's position and angles; missing {} column(s), e.g. {} (rerun with the default columns, or add *_R_* and the bodies' angles)",
+            "the animation needs every body's position and attitude; missing {} column(s), e.g. {} (rerun with the default columns, or add *_R_* and *_q_*)",
             missing.len(),
             shown.join(", ")
         ));
     }
     let mut frames = Frames::new(model.bodies.len(), fps);
     let mut kept = Vec::new();
+    let mut previous: Option<f64> = None;
     for (k, row) in table.rows.iter().enumerate() {
+        let line = k + 2;
+        let t = row[t_col];
+        if !t.is_finite() {
+            return Err(format!("line {line}: t = {t} is not a finite time"));
+        }
+        if let Some(p) = previous
+            && t <= p
+        {
+            return Err(format!(
+                "line {line}: t = {t} s does not come after the previous row's {p} s; the rows must be in increasing time"
+            ));
+        }
+        previous = Some(t);
+        if let Some(c) = cols.iter().flatten().find(|&&c| !row[c].is_finite()) {
+            return Err(format!("line {line}: {} = {} is not finite", table.header[*c], row[*c]));
+        }
         let r: Vec<Vec3> = cols.iter().map(|c| Vec3::new(row[c[0]], row[c[1]], row[c[2]])).collect();
-        let th: Vec<Euler321> = cols.iter().map(|c| Euler321::new(row[c[3]], row[c[4]], row[c[5]])).collect();
+        let q: Vec<[f64; 4]> = cols
+            .iter()
+            .map(|c| {
+                if quaternions {
+                    [row[c[3]], row[c[4]], row[c[5]], row[c[6]]]
+                } else {
+                    quaternion_of_angles(&Euler321::new(row[c[3]], row[c[4]], row[c[5]]))
+                }
+            })
+            .collect();
+        if let Some((b, _)) = q.iter().enumerate().find(|(_, q)| q.iter().map(|x| x * x).sum::<f64>() < 1e-12) {
+            return Err(format!("line {line}: {}'s quaternion is zero", model.bodies[b].name));
+        }
         let before = frames.times.len();
-        frames.push_angles(row[t_col], &r, &th);
+        frames.push_poses(t, &r, &q);
         if frames.times.len() > before {
             kept.push(k);
         }
@@ -172,7 +229,7 @@ pub fn frames_from_table(model: &Model, table: &Table, fps: Option<f64>) -> Resu
     if frames.times.len() > before {
         kept.push(table.rows.len() - 1);
     }
-    Ok((frames, kept))
+    Ok((frames, kept, warnings))
 }
 
 /// What was written.
@@ -516,10 +573,9 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
     Ok(glb_container(&root.to_vec().map_err(|e| format!("cannot encode the glTF JSON: {e}"))?, &bin.data))
 }
 
-/// A unit quaternion as glTF's (x, y, z, w) in f32, renormalized after rounding.
-fn rotation_f32(q: &UnitQuaternion<f64>) -> [f32; 4] {
-    let c = q.coords;
-    let v = [c.x as f32, c.y as f32, c.z as f32, c.w as f32];
+/// A quaternion (w, x, y, z) as glTF's (x, y, z, w) in f32, normalized after rounding.
+fn rotation_f32(q: &[f64; 4]) -> [f32; 4] {
+    let v = [q[1] as f32, q[2] as f32, q[3] as f32, q[0] as f32];
     let n = v.iter().map(|x| x * x).sum::<f32>().sqrt();
     v.map(|x| x / n)
 }

@@ -36,6 +36,13 @@ pub(crate) fn run(
     for w in &scenario.warnings {
         eprintln!("warning: {w}");
     }
+    let csv_label = if csv.is_some() {
+        "--csv"
+    } else if scenario.csv.is_some() {
+        "run.csv"
+    } else {
+        "the output CSV"
+    };
     let target = csv.or_else(|| scenario.csv.clone()).unwrap_or_else(|| {
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}.csv"))
@@ -44,7 +51,7 @@ pub(crate) fn run(
         Some(patterns) => Selection::matching(&scenario.model, &patterns).map_err(|m| format!("--columns: {m}"))?,
         None => scenario.columns.clone(),
     };
-    let mut outputs: Vec<(&str, &Path)> = vec![("the CSV", &target)];
+    let mut outputs: Vec<(&str, &Path)> = vec![(csv_label, &target)];
     if let Some((glb, _)) = &animation {
         outputs.push(("--animation", glb));
     }

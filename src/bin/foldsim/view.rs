@@ -22,8 +22,11 @@ pub(crate) fn finished_run(
     inputs.push(csv.to_path_buf());
     check_outputs(&inputs, &[("-o", output)])?;
     let table = Table::read(csv)?;
-    let (frames, kept) =
+    let (frames, kept, warnings) =
         frames_from_table(&scenario.model, &table, fps).map_err(|m| format!("{}: {m}", csv.display()))?;
+    for w in warnings {
+        eprintln!("warning: {}: {w}", csv.display());
+    }
     Ok((scenario, table, frames, kept))
 }
 

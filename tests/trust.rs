@@ -231,3 +231,47 @@ fn animate_and_view_refuse_bad_rows_and_warn_of_foreign_columns() {
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("warning") && text(&o).contains("zz_extra"), "{}", text(&o));
 }
+
+/// The README's flasher recipe (shortened to 1 s of the 5: it is 90 % deployed at 0.5 s)
+/// deploys, and the generator says how long the run will take; a flasher that does not open
+/// is said to be not deployed.
+#[test]
+fn the_readme_flasher_deploys_and_one_that_does_not_says_so() {
+    let dir = tmp("flasher");
+    let g = foldsim()
+        .current_dir(&dir)
+        .args(["generate", "flasher", "--gores", "12", "--rings", "5", "--duration", "1", "-o", "f.toml"])
+        .output()
+        .unwrap();
+    assert!(g.status.success() && text(&g).contains("expected run time: about"), "{}", text(&g));
+    let r = foldsim().current_dir(&dir).args(["run", "f.toml", "--csv", "f.csv"]).output().unwrap();
+    let t = text(&r);
+    assert!(r.status.success() && t.contains("90 % of the design radius at t = 0.4"), "{t}");
+    let deployed = std::fs::read_to_string(dir.join("f.csv")).unwrap();
+    let header: Vec<&str> = deployed.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|c| *c == "deployed").unwrap();
+    let last: f64 = deployed.lines().last().unwrap().split(',').nth(col).unwrap().parse().unwrap();
+    assert!(last >= 0.9, "deployed {last}");
+    // Stiff bending diagonals hold the wrap folded: the report says so.
+    let g = foldsim()
+        .current_dir(&dir)
+        .args([
+            "generate",
+            "flasher",
+            "--gores",
+            "6",
+            "--rings",
+            "3",
+            "--k-panel-bending",
+            "1000",
+            "--duration",
+            "0.5",
+            "-o",
+            "s.toml",
+        ])
+        .output()
+        .unwrap();
+    assert!(g.status.success(), "{}", text(&g));
+    let r = foldsim().current_dir(&dir).args(["run", "s.toml", "--csv", "s.csv"]).output().unwrap();
+    assert!(text(&r).contains("NOT DEPLOYED: it reached at most"), "{}", text(&r));
+}

@@ -239,6 +239,8 @@ impl Scenario {
         d.set_item("energy_conserving", report.energy_conserving)?;
         d.set_item("released_at", report.released_at)?;
         d.set_item("deployed_90", report.deployed_90)?;
+        d.set_item("deployed_start", report.deployed_start)?;
+        d.set_item("deployed_max", report.deployed_max)?;
         let hinge = |i: usize| s.model.hinges[i].name.clone();
         let events: Vec<(f64, String, String, String)> = report
             .events

@@ -114,7 +114,7 @@ impl Default for FlasherOptions {
             panels: PanelModel::Triangles,
             laws: FlasherLaws::default(),
             spin_rpm: 0.0,
-            duration: 10.0,
+            duration: 5.0,
             output_step: None,
             tolerance: 1e-8,
             integrator: "dop853".into(),

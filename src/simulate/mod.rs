@@ -7,8 +7,10 @@
 //!
 //! - [`settings`]: what a run is asked to do ([`RunSettings`], [`Integrator`]);
 //! - [`run`]: [`simulate`], which streams rows to a [`Sink`];
-//! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]).
+//! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
+//! - [`estimate`]: a run's wall time, projected from a short trial of it.
 
+pub mod estimate;
 pub mod report;
 pub mod run;
 pub mod settings;

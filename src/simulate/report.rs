@@ -82,6 +82,11 @@ pub struct RunReport {
     /// When the structure first reached 90 % of its deployed design radius, from below
     /// (interpolated between output rows), s; `None` if it did not.
     pub deployed_90: Option<f64>,
+    /// The deployed fraction (the `deployed` column) at the start, and the largest it
+    /// reached; NaN for a structure without panels.
+    pub deployed_start: f64,
+    /// See [`RunReport::deployed_start`].
+    pub deployed_max: f64,
     /// Of `rhs_evaluations`, those that solved for engaged locks.
     pub constrained_evaluations: u64,
     /// Locks that engaged (carried load), with the time from which they were solved for

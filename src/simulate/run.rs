@@ -62,6 +62,8 @@ struct StreamOut<'d, 'm, 's, 'p> {
     restore_every_step: bool,
     /// When the deployed fraction first reached 0.9 (from below), s.
     deployed_90: Option<f64>,
+    /// The deployed fraction at the first row, and the largest of any row (NaN without panels).
+    deployed_range: (f64, f64),
     /// When the restraint is to let go, s, until it has.
     release_at: Option<f64>,
     /// When it let go, s.
@@ -115,6 +117,10 @@ impl StreamOut<'_, '_, '_, '_> {
             self.drift.energy_initial = o.energy();
             self.first = Some(o.clone());
         }
+        if self.last.is_none() {
+            self.deployed_range = (o.deployed_fraction, o.deployed_fraction);
+        }
+        self.deployed_range.1 = self.deployed_range.1.max(o.deployed_fraction);
         // The first time the structure is 90 % deployed, between the rows that cross it.
         if self.deployed_90.is_none()
             && let Some(last) = &self.last
@@ -464,6 +470,7 @@ pub fn simulate(
         momenta: (implicit || dynamics.has_locks()).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
         deployed_90: None,
+        deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,
         released_at: None,
     };
@@ -514,6 +521,8 @@ pub fn simulate(
         branch_events: out.branch_events,
         stiff_from: stats.stiff_from,
         deployed_90: out.deployed_90,
+        deployed_start: out.deployed_range.0,
+        deployed_max: out.deployed_range.1,
         newton_iterations: stats.newton_iterations,
         jacobians: stats.jacobians,
         refactorizations: stats.refactorizations,

@@ -127,9 +127,9 @@ pub enum Command {
         /// Stowed fold angle (z-fold) or initial hub-hinge fold (grid), degrees (default 30).
         #[arg(long, global = true)]
         fold_deg: Option<f64>,
-        /// Simulated time, s.
-        #[arg(long, default_value_t = Params::default().duration, global = true)]
-        duration: f64,
+        /// Simulated time, s (default: 10 for a z-fold or grid, 5 for a flasher).
+        #[arg(long, global = true)]
+        duration: Option<f64>,
         /// Integrator tolerance (rtol = atol).
         #[arg(long, default_value_t = Params::default().tolerance, global = true)]
         tolerance: f64,

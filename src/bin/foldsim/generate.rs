@@ -16,7 +16,19 @@ pub(crate) fn generate(shape: Shape, p: &foldsim::generate::Params, output: Opti
         Shape::Grid { rows, cols } => grid_checked(rows, cols, p, &flag)?,
         Shape::Flasher(_) => unreachable!("flashers are written by generate_flasher"),
     };
-    write_scenario(&text, output)
+    let report = output.is_some();
+    write_scenario(&text, output)?;
+    if report {
+        crate::out::print(&format!("expected run time: {}\n", expected_run_time(&text)?))?;
+    }
+    Ok(())
+}
+
+/// How long `foldsim run` of generated scenario text will take, from a half-second trial.
+fn expected_run_time(text: &str) -> Result<String, String> {
+    let s = foldsim::scenario::Scenario::from_toml(text, "the generated scenario").map_err(|e| e.to_string())?;
+    let budget = std::time::Duration::from_millis(500);
+    Ok(foldsim::simulate::estimate::estimate(&s.model, &s.initial, &s.settings, budget).describe())
 }
 
 /// Writes a scenario to `output` through `<output>.partial` (renamed when complete), or to
@@ -93,10 +105,12 @@ pub(crate) fn generate_flasher(
         .map(|l| format!("# {l}\n"))
         .collect();
     let text = format!("{commented}{text}");
+    let summary = format!("{summary}expected run time: {}\n", expected_run_time(&text)?);
     if output.is_some() {
-        crate::out::print(&summary)?;
+        write_scenario(&text, output)?;
+        crate::out::print(&summary)
     } else {
         eprint!("{summary}");
+        write_scenario(&text, output)
     }
-    write_scenario(&text, output)
 }

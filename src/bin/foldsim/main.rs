@@ -56,6 +56,7 @@ fn main() -> ExitCode {
                 if panel_mass.is_some() || fold_deg.is_some() {
                     Err("--panel-mass and --fold-deg do not apply to a flasher: its panels' masses follow from --areal-density and their shapes, its folds from the geometry".to_string())
                 } else {
+                    let duration = duration.unwrap_or(foldsim::generate::options::FlasherOptions::default().duration);
                     generate::generate_flasher(&args, k_translation, k_bending, k_fold, (duration, tolerance), output)
                 }
             } else {
@@ -66,7 +67,7 @@ fn main() -> ExitCode {
                     k_bending,
                     k_fold,
                     fold_deg: fold_deg.unwrap_or(defaults.fold_deg),
-                    duration,
+                    duration: duration.unwrap_or(defaults.duration),
                     tolerance,
                     ..defaults
                 };

@@ -105,6 +105,12 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     }
     if let Some(t) = r.deployed_90 {
         outln!("  deployment       90 % of the design radius at t = {t:.4} s");
+    } else if r.deployed_start < 0.9 && r.deployed_max < 0.9 {
+        outln!(
+            "  deployment       NOT DEPLOYED: it reached at most {:.0} % of its design radius ({:.0} % at the start; 90 % counts as deployed). Give it more time (run.duration), more stored fold energy or spin, or softer panel bending, or damp less",
+            100.0 * r.deployed_max,
+            100.0 * r.deployed_start
+        );
     }
     if !r.events.is_empty() || r.branch_events > 0 {
         outln!(

@@ -61,6 +61,12 @@ pub fn lift<T: Real>(m: &Mat3) -> Matrix3<T> {
     m.map(real)
 }
 
+/// A number as messages print it: short (`1e300`, `2.5`, `-1e-12`), never the 300 digits
+/// that `{}` gives a large `f64`.
+pub fn short(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e15).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
+}
+
 /// Elementary rotation about axis 1 by `a` rad (docs/model.md §1).
 pub fn m1(a: f64) -> Mat3 {
     let (s, c) = a.sin_cos();

@@ -275,3 +275,62 @@ fn the_readme_flasher_deploys_and_one_that_does_not_says_so() {
     let r = foldsim().current_dir(&dir).args(["run", "s.toml", "--csv", "s.csv"]).output().unwrap();
     assert!(text(&r).contains("NOT DEPLOYED: it reached at most"), "{}", text(&r));
 }
+
+/// Every generator option is checked against the loader's own rules before anything is
+/// written, by its command-line name, with short numbers; negative values reach the check.
+#[test]
+fn generator_options_are_checked_by_name() {
+    let dir = tmp("options");
+    for (args, says) in [
+        ("zfold --panels 3 --k-fold -1", "--k-fold must be a number ≥ 0 in N·m/rad; got -1"),
+        ("zfold --panels 3 --panel-mass -1e300", "--panel-mass must be a positive number in kg; got -1e300"),
+        ("grid --rows 3 --cols 3 --duration 1e300", "--duration / --output-step = 1e302 rows"),
+        ("zfold --panels 3 --tolerance 1e-17", "--tolerance = 1e-17 is below what f64 resolves"),
+        ("flasher --gores 12 --rings 5 --hub-radius -1", "--hub-radius must be a positive number in m; got -1"),
+        ("flasher --gores 1000 --rings 100", "would make about 400000 panels"),
+        ("flasher --gores 2 --rings 1", "--gores must be 3 to 1000; got 2"),
+        (
+            "flasher --gores 6 --rings 3 --release-at 20",
+            "--release-at must lie strictly between 0 and --duration = 5 s; got 20",
+        ),
+        ("flasher --gores 6 --rings 3 --release-at 0", "--release-at must lie strictly between 0"),
+        ("flasher --gores 6 --rings 3 --hub-inertia 1,1,10", "--hub-inertia: principal inertias 1, 1, 10"),
+        ("flasher --gores 6 --rings 3 --hub-inertia 1,1", "--hub-inertia takes 3"),
+        ("flasher --gores 6 --rings 3 --areal-density 1e-300", "these options give a scenario that foldsim refuses"),
+        ("flasher --gores 6 --rings 3 --spin-rpm -1e400", "--spin-rpm must be a finite number"),
+    ] {
+        let out = dir.join("g.toml");
+        let o = foldsim().args(["generate"]).args(args.split(' ')).arg("-o").arg(&out).output().unwrap();
+        refused(&o, &[says]);
+        assert!(!out.exists() && !dir.join("g.toml.partial").exists(), "{args}: a file was written");
+    }
+    // What it accepts, the loader accepts.
+    let o = foldsim()
+        .args(["generate", "flasher", "--gores", "3", "--rings", "1", "--spin-rpm", "-5", "--release-at", "0.1", "-o"])
+        .arg(dir.join("ok.toml"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    foldsim::scenario::Scenario::from_file(&dir.join("ok.toml")).unwrap();
+}
+
+/// An inertia whose entries overflow the eigen solver is refused, not passed as definite.
+#[test]
+fn an_overflowing_inertia_is_not_positive_definite() {
+    let e = foldsim::model::Body::new(
+        "b",
+        1.0,
+        nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(-1e308, 1.0, 1.0)),
+    )
+    .err()
+    .unwrap();
+    assert!(e.contains("positive definite") && e.contains("-1.000000e308"), "{e}");
+    let e = foldsim::model::Body::new(
+        "b",
+        1e300,
+        nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(1e308, 1e308, 1e308)),
+    )
+    .map(|_| ())
+    .err();
+    assert!(e.is_none(), "a large but valid inertia is taken: {e:?}");
+}

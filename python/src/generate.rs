@@ -26,7 +26,19 @@ fn apply(
 ) -> PyResult<()> {
     for (k, v) in options.into_iter().flat_map(|d| d.iter()) {
         let k: String = k.extract()?;
-        if !set(&k, &v)? {
+        // A value of the wrong type or shape: the error names the option (pyo3's says only
+        // what it expected).
+        let known_key = set(&k, &v).map_err(|e| {
+            Python::attach(|py| {
+                let message = format!("option {k}: {}", e.value(py));
+                if e.is_instance_of::<pyo3::exceptions::PyTypeError>(py) {
+                    pyo3::exceptions::PyTypeError::new_err(message)
+                } else {
+                    PyValueError::new_err(message)
+                }
+            })
+        })?;
+        if !known_key {
             return Err(PyValueError::new_err(format!("unknown option '{k}': the options are {}", known.join(", "))));
         }
     }

@@ -139,3 +139,19 @@ def test_save_never_replaces_a_table_the_scenario_reads(tmp_path: Path):
     assert table.read_bytes() == before
     s.save(tmp_path / "copy.toml")
     assert (tmp_path / "copy.toml").read_text() == s.text
+
+
+def test_generator_errors_name_the_argument():
+    for call, kind, says in [
+        (lambda: foldsim.generate.flasher(6, 3, k_fold="x"), TypeError, "option k_fold"),
+        (lambda: foldsim.generate.flasher(6, 3, hub_inertia=[1.0, 2.0]), ValueError, "option hub_inertia"),
+        (lambda: foldsim.generate.flasher(6, 3, hub_radius=-1.0), ValueError, "hub_radius must be a positive number in m; got -1"),
+        (lambda: foldsim.generate.flasher(6, 3, release_at=99.0), ValueError, "release_at must lie strictly between 0 and duration"),
+        (lambda: foldsim.generate.flasher(6, 3, areal_density=1e-300), ValueError, "these options give a scenario that foldsim refuses"),
+        (lambda: foldsim.generate.zfold("3"), TypeError, "panels must be a whole number"),
+        (lambda: foldsim.generate.zfold(-3), ValueError, "panels must be a whole number"),
+        (lambda: foldsim.generate.grid(3, 2.5), TypeError, "cols must be a whole number"),
+        (lambda: foldsim.generate.zfold(3, panel_mass=1e300 * 1e300), ValueError, "panel_mass must be a positive number in kg; got inf"),
+    ]:
+        with pytest.raises(kind, match=says):
+            call()

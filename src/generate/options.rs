@@ -2,9 +2,11 @@
 //! package take them (`foldsim generate …`, `foldsim.generate.…`): one place that says what
 //! each may be.
 
-use super::flasher::{FlasherLaws, FlasherReport, FlasherShape, PanelModel, flasher_scenario};
+use super::flasher::{FlasherLaws, FlasherReport, FlasherShape, MAX_GORES, PanelModel, flasher_scenario};
 use super::params::{MAX_PANELS, Params, RunText};
 use super::sheet::SheetParams;
+use crate::math::short;
+use crate::simulate::settings::{MAX_OUTPUT_ROWS, MIN_RTOL};
 
 /// A positive finite number, or an error naming the option (`name` turns an option's key
 /// into the caller's spelling: `--k-fold` on the command line, `k_fold` in Python).
@@ -12,7 +14,7 @@ fn positive(v: f64, key: &str, unit: &str, name: &dyn Fn(&str) -> String) -> Res
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(format!("{} must be a positive number in {unit}; got {v}", name(key)))
+        Err(format!("{} must be a positive number in {unit}; got {}", name(key), short(v)))
     }
 }
 
@@ -20,8 +22,71 @@ fn at_least_zero(v: f64, key: &str, unit: &str, name: &dyn Fn(&str) -> String) -
     if v.is_finite() && v >= 0.0 {
         Ok(v)
     } else {
-        Err(format!("{} must be a number ≥ 0 in {unit}; got {v}", name(key)))
+        Err(format!("{} must be a number ≥ 0 in {unit}; got {}", name(key), short(v)))
     }
+}
+
+/// Checks the run's options as the loader will check `[run]` (docs/scenario.md), naming the
+/// options: positive times, at most [`MAX_OUTPUT_ROWS`] rows, a tolerance above round-off,
+/// a release within the run.
+fn run_checked(
+    duration: f64,
+    output_step: f64,
+    tolerance: f64,
+    release_at: Option<f64>,
+    name: &dyn Fn(&str) -> String,
+) -> Result<(), String> {
+    positive(duration, "duration", "s", name)?;
+    positive(output_step, "output_step", "s", name)?;
+    if duration / output_step > MAX_OUTPUT_ROWS {
+        return Err(format!(
+            "{} / {} = {} rows of output, more than {}: raise {}",
+            name("duration"),
+            name("output_step"),
+            short(duration / output_step),
+            short(MAX_OUTPUT_ROWS),
+            name("output_step")
+        ));
+    }
+    positive(tolerance, "tolerance", "(relative)", name)?;
+    if tolerance <= MIN_RTOL {
+        return Err(format!(
+            "{} = {} is below what f64 resolves: give more than {MIN_RTOL:.1e} (1e-13 or looser is usual)",
+            name("tolerance"),
+            short(tolerance)
+        ));
+    }
+    if tolerance >= 1.0 {
+        return Err(format!(
+            "{} = {} is no accuracy at all: give less than 1 (1e-8 is usual)",
+            name("tolerance"),
+            short(tolerance)
+        ));
+    }
+    if let Some(t) = release_at
+        && !(t.is_finite() && t > 0.0 && t < duration)
+    {
+        return Err(format!(
+            "{} must lie strictly between 0 and {} = {} s; got {}",
+            name("release_at"),
+            name("duration"),
+            short(duration),
+            short(t)
+        ));
+    }
+    Ok(())
+}
+
+/// Builds generated scenario text as `foldsim run` will, so that a generator never writes
+/// a scenario the loader refuses; the loader's words, without the line of a file the user
+/// never saw.
+pub fn loadable(text: &str) -> Result<(), String> {
+    crate::scenario::Scenario::from_toml(text, "generated").map(|_| ()).map_err(|e| {
+        format!(
+            "these options give a scenario that foldsim refuses: {} (check the options' sizes and units)",
+            e.message
+        )
+    })
 }
 
 impl Params {
@@ -30,9 +95,7 @@ impl Params {
         positive(self.panel_mass, "panel_mass", "kg", name)?;
         positive(self.panel_length, "panel_length", "m", name)?;
         positive(self.panel_width, "panel_width", "m", name)?;
-        positive(self.duration, "duration", "s", name)?;
-        positive(self.output_step, "output_step", "s", name)?;
-        positive(self.tolerance, "tolerance", "(relative)", name)?;
+        run_checked(self.duration, self.output_step, self.tolerance, None, name)?;
         at_least_zero(self.k_translation, "k_translation", "N/m", name)?;
         at_least_zero(self.k_bending, "k_bending", "N·m/rad", name)?;
         at_least_zero(self.k_fold, "k_fold", "N·m/rad", name)?;
@@ -49,7 +112,9 @@ pub fn zfold_checked(panels: usize, p: &Params, name: &dyn Fn(&str) -> String) -
     if !(1..=MAX_PANELS).contains(&panels) {
         return Err(format!("a z-fold needs 1 ≤ {} ≤ {MAX_PANELS}; got {panels}", name("panels")));
     }
-    Ok(super::zfold(panels, p))
+    let text = super::zfold(panels, p);
+    loadable(&text)?;
+    Ok(text)
 }
 
 /// A grid's scenario text, its size and values checked.
@@ -62,7 +127,9 @@ pub fn grid_checked(rows: usize, cols: usize, p: &Params, name: &dyn Fn(&str) ->
             name("cols")
         ));
     }
-    Ok(super::grid(rows, cols, p))
+    let text = super::grid(rows, cols, p);
+    loadable(&text)?;
+    Ok(text)
 }
 
 /// Everything that makes a flasher scenario, with the command line's defaults.
@@ -127,10 +194,31 @@ impl FlasherOptions {
     /// Checks the options and writes the scenario text and the generator's report. `name`
     /// spells an option's key as the caller takes it (`--k-fold` or `k_fold`).
     pub fn scenario(&self, name: &dyn Fn(&str) -> String) -> Result<(String, FlasherReport), String> {
+        if !(3..=MAX_GORES).contains(&self.gores) {
+            return Err(format!("{} must be 3 to {MAX_GORES}; got {}", name("gores"), self.gores));
+        }
+        if self.rings < 1 {
+            return Err(format!("{} must be at least 1; got {}", name("rings"), self.rings));
+        }
+        // Panels per gore and ring (hub excluded): 4 triangles, or 2 quadrilaterals (measured:
+        // 20 × 20 gives 1,580 triangles, 820 quads, 800 ring-quads).
+        let per = if self.panels == PanelModel::Triangles { 4 } else { 2 };
+        let panels = self.gores.saturating_mul(self.rings).saturating_mul(per);
+        if panels > MAX_PANELS {
+            return Err(format!(
+                "{} {} × {} {} would make about {panels} panels ({per} per gore and ring with the {} panel model), more than {MAX_PANELS}: lower {} or {}",
+                name("gores"),
+                self.gores,
+                name("rings"),
+                self.rings,
+                self.panels.name(),
+                name("gores"),
+                name("rings")
+            ));
+        }
+        positive(self.hub_radius, "hub_radius", "m", name)?;
         positive(self.areal_density, "areal_density", "kg/m²", name)?;
         positive(self.hub_mass, "hub_mass", "kg", name)?;
-        positive(self.duration, "duration", "s", name)?;
-        positive(self.tolerance, "tolerance", "(relative)", name)?;
         at_least_zero(self.thickness, "thickness", "m", name)?;
         if !self.spin_rpm.is_finite() {
             return Err(format!("{} must be a finite number in rev/min", name("spin_rpm")));
@@ -154,14 +242,23 @@ impl FlasherOptions {
                 for (i, &x) in v.iter().enumerate() {
                     positive(x, &format!("hub_inertia component {}", i + 1), "kg·m²", name)?;
                 }
+                let mut p = v;
+                p.sort_by(f64::total_cmp);
+                if p[2] > (p[0] + p[1]) * (1.0 + 1e-9) {
+                    return Err(format!(
+                        "{}: principal inertias {}, {}, {} kg·m² are not a body's: the largest may not exceed the sum of the other two",
+                        name("hub_inertia"),
+                        short(v[0]),
+                        short(v[1]),
+                        short(v[2])
+                    ));
+                }
                 v
             }
             None => [self.hub_mass * r * r / 4.0, self.hub_mass * r * r / 4.0, self.hub_mass * r * r / 2.0],
         };
-        let output_step = positive(self.output_step.unwrap_or(self.duration / 1000.0), "output_step", "s", name)?;
-        if let Some(t) = self.release_at {
-            at_least_zero(t, "release_at", "s", name)?;
-        }
+        let output_step = self.output_step.unwrap_or(self.duration / 1000.0);
+        run_checked(self.duration, output_step, self.tolerance, self.release_at, name)?;
         let integrator = match self.integrator.as_str() {
             "dop853" => "dop853",
             "sdirk4" => "sdirk4",
@@ -184,7 +281,9 @@ impl FlasherOptions {
             spin_rpm: self.spin_rpm,
             run,
         };
-        flasher_scenario(&shape, &self.laws, &params)
+        let (text, report) = flasher_scenario(&shape, &self.laws, &params)?;
+        loadable(&text)?;
+        Ok((text, report))
     }
 }
 

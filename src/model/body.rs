@@ -25,7 +25,10 @@ impl Body {
     /// positive definite and satisfying the triangle inequalities of its principal values.
     pub fn new(name: &str, mass: f64, inertia_in_body: Mat3) -> Result<Self, String> {
         if !(mass.is_finite() && mass > 0.0) {
-            return Err(format!("body '{name}': mass must be a finite number > 0 kg, got {mass}"));
+            return Err(format!(
+                "body '{name}': mass must be a finite number > 0 kg, got {}",
+                crate::math::short(mass)
+            ));
         }
         if inertia_in_body.iter().any(|x| !x.is_finite()) {
             return Err(format!("body '{name}': inertia has a non-finite entry"));
@@ -37,11 +40,13 @@ impl Body {
                 "body '{name}': inertia tensor is not symmetric (largest |I_ij − I_ji| = {asym:e} kg·m²)"
             ));
         }
-        let sym = (inertia_in_body + inertia_in_body.transpose()) * 0.5;
-        let eig = sym.symmetric_eigenvalues();
+        let sym = inertia_in_body * 0.5 + inertia_in_body.transpose() * 0.5;
+        // Eigenvalues of the tensor scaled to unit size (entries near ±1e308 overflow the
+        // solver to NaN, which no comparison refuses), scaled back.
+        let eig = if scale > 0.0 { (sym / scale).symmetric_eigenvalues() * scale } else { sym.symmetric_eigenvalues() };
         let mut p = [eig[0], eig[1], eig[2]];
         p.sort_by(f64::total_cmp);
-        if p[0] <= 0.0 {
+        if !(p.iter().all(|x| x.is_finite()) && p[0] > 0.0) {
             return Err(format!(
                 "body '{name}': inertia must be positive definite; principal values are {:.6e}, {:.6e}, {:.6e} kg·m²",
                 p[0], p[1], p[2]

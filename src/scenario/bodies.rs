@@ -61,7 +61,10 @@ pub(super) fn body(ctx: &Ctx<'_>, b: &RawBody) -> Result<Body, ScenarioError> {
                         let unit = if matches!(s, Shape::Plate { .. }) { "kg/m²" } else { "kg/m³" };
                         return Err(here(
                             d.span(),
-                            format!("'density' must be a finite number > 0 {unit}, got {density}"),
+                            format!(
+                                "'density' must be a finite number > 0 {unit}, got {}",
+                                crate::math::short(density)
+                            ),
                         ));
                     }
                     let from_shape = density * unit.mass;

@@ -91,8 +91,7 @@ pub(super) fn read_file(path: &Path) -> Result<String, ScenarioError> {
     })
 }
 
-/// The tightest relative tolerance accepted: 10 units of round-off (Hairer's bound).
-const MIN_RTOL: f64 = 10.0 * f64::EPSILON;
+use crate::simulate::settings::MIN_RTOL;
 
 fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     // Run settings.
@@ -179,7 +178,11 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         Some(v) => {
             return Err(ctx.span(
                 v,
-                format!("'run.release_at' must lie between 0 and run.duration = {duration} s, got {}", v.get_ref()),
+                format!(
+                    "'run.release_at' must lie between 0 and run.duration = {} s, got {}",
+                    crate::math::short(duration),
+                    crate::math::short(*v.get_ref())
+                ),
             ));
         }
     };

@@ -192,7 +192,7 @@ fn direction(
     let rest = angle(r.rest, r.rest_deg, "rest")?.unwrap_or(0.0);
     let damping = r.damping.unwrap_or(0.0);
     if damping < 0.0 {
-        return Err(here(format!("damping must be ≥ 0 {rate_unit}, got {damping}")));
+        return Err(here(format!("damping must be ≥ 0 {rate_unit}, got {}", crate::math::short(damping))));
     }
     let response = if let Some(k) = r.k {
         if k < 0.0 {

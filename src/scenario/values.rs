@@ -164,6 +164,6 @@ pub(super) fn positive(ctx: &Ctx<'_>, v: &Spanned<f64>, key: &str, unit: &str) -
     if x > 0.0 && x.is_finite() {
         Ok(x)
     } else {
-        Err(ctx.span(v, format!("'{key}' must be a finite number > 0 {unit}, got {x}")))
+        Err(ctx.span(v, format!("'{key}' must be a finite number > 0 {unit}, got {}", crate::math::short(x))))
     }
 }

@@ -74,6 +74,10 @@ pub struct RunSettings {
 /// smallest structure are gigabytes, more than anyone reads back.
 pub const MAX_OUTPUT_ROWS: f64 = 1e7;
 
+/// The tightest relative tolerance accepted: 10 units of round-off (Hairer's bound: no step
+/// can meet a tighter one).
+pub const MIN_RTOL: f64 = 10.0 * f64::EPSILON;
+
 /// The step floor, as a fraction of the run's duration: a step-size control that wants
 /// smaller steps stops the run (explicit methods need steps of ~3 / the fastest hinge rate;
 /// below 1e-12 of the duration the run would take more than 1e12 steps).

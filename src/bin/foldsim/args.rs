@@ -109,6 +109,7 @@ pub enum Command {
         quiet: bool,
     },
     /// Write a generated structure as a scenario file.
+    #[command(allow_negative_numbers = true)]
     Generate {
         #[command(subcommand)]
         shape: Shape,
@@ -160,12 +161,14 @@ pub enum Command {
 #[derive(Subcommand)]
 pub enum Shape {
     /// A z-folded chain of panels off the hub.
+    #[command(allow_negative_numbers = true)]
     Zfold {
         /// Number of panels.
         #[arg(long)]
         panels: usize,
     },
     /// A grid of panels hinged to their neighbours (many loops).
+    #[command(allow_negative_numbers = true)]
     Grid {
         /// Rows of panels.
         #[arg(long)]
@@ -203,7 +206,7 @@ pub struct FlasherArgs {
     pub hub_mass: f64,
     /// Hub principal inertia about its centroid (x, y in its plane, z its axis), kg·m²,
     /// comma-separated. Default: a uniform disc of the hub's radius and mass.
-    #[arg(long, value_delimiter = ',', num_args = 3)]
+    #[arg(long, value_delimiter = ',')]
     pub hub_inertia: Option<Vec<f64>>,
     /// Panel model: quads (rigid, flat in both states), ring-quads (one ring each, strained
     /// when stowed) or triangles (a bending hinge on each quad's diagonal).

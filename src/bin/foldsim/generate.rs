@@ -62,6 +62,16 @@ pub(crate) fn generate_flasher(
     use foldsim::generate::flasher::FlasherLaws;
     use foldsim::generate::options::{FlasherOptions, panel_model};
     check_output(&output)?;
+    let hub_inertia = match a.hub_inertia.as_deref() {
+        None => None,
+        Some(&[x, y, z]) => Some([x, y, z]),
+        Some(v) => {
+            return Err(format!(
+                "--hub-inertia takes 3 comma-separated principal values (x, y, z) in kg·m², e.g. 25,25,50; got {}",
+                v.len()
+            ));
+        }
+    };
     let options = FlasherOptions {
         gores: a.gores,
         rings: a.rings,
@@ -69,7 +79,7 @@ pub(crate) fn generate_flasher(
         thickness: a.thickness,
         areal_density: a.areal_density,
         hub_mass: a.hub_mass,
-        hub_inertia: a.hub_inertia.as_ref().map(|v| [v[0], v[1], v[2]]),
+        hub_inertia,
         panels: panel_model(&a.panels)?,
         laws: FlasherLaws {
             k_fold,

@@ -334,3 +334,66 @@ fn an_overflowing_inertia_is_not_positive_definite() {
     .err();
     assert!(e.is_none(), "a large but valid inertia is taken: {e:?}");
 }
+
+/// A run that will take long says so after a second, even under --quiet, and a hinge placed
+/// absurdly far from its body draws a located warning; off a terminal, progress lines come
+/// at the interval asked for (30 s unless FOLDSIM_PROGRESS_EVERY says otherwise).
+#[test]
+fn long_runs_say_so_early_and_report_progress_off_a_terminal() {
+    let dir = tmp("long");
+    let text = std::fs::read_to_string(repo("examples/paper-1panel.toml"))
+        .unwrap()
+        .replace("a = { child_com = [1.0, 1.0, 0.0] }", "a = { child_com = [600000.0, 1.0, 0.0] }")
+        .replace("duration = 20.0", "duration = 2.0");
+    std::fs::write(dir.join("far.toml"), text).unwrap();
+    let mut child = foldsim()
+        .current_dir(&dir)
+        .args(["run", "far.toml", "-q", "--csv", "far.csv"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(2500));
+    child.kill().unwrap();
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("far.toml:") && err.contains("a length in mm where m was meant?"), "{err}");
+    assert!(err.contains("note: foldsim run will take about") && err.contains(" h ("), "{err}");
+    assert!(!err.contains("%),"), "--quiet: no progress lines: {err}");
+    // Off a terminal, not quiet: lines at the interval.
+    let mut child = foldsim()
+        .current_dir(&dir)
+        .env("FOLDSIM_PROGRESS_EVERY", "0.3")
+        .args(["run", "far.toml", "--csv", "far.csv"])
+        .stderr(Stdio::piped())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    child.kill().unwrap();
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    let lines = err.lines().filter(|l| l.starts_with("foldsim run: ") && l.contains(" of 2 s (")).count();
+    assert!(lines >= 2, "{err}");
+}
+
+/// `plot` ends on any CSV, refuses formats it does not write, and says what is wrong in words.
+#[cfg(feature = "plot")]
+#[test]
+fn plot_ends_and_refuses_in_words() {
+    let dir = tmp("plot");
+    std::fs::write(dir.join("wide.csv"), "t,a\n-1e308,1\n1e308,2\n").unwrap();
+    std::fs::write(dir.join("tall.csv"), "t,a\n0,-1e308\n1,1e308\n").unwrap();
+    std::fs::write(dir.join("ok.csv"), "t,a\n0,1\n1,2\n").unwrap();
+    let plot = |csv: &str, out: &str| {
+        foldsim().current_dir(&dir).args(["plot", csv, "--columns", "a", "-o", out]).output().unwrap()
+    };
+    refused(&plot("wide.csv", "w.png"), &["t runs from -1e308 to 1e308 s, a span too wide to plot"]);
+    refused(&plot("tall.csv", "w.png"), &["the values run from -1e308 to 1e308"]);
+    refused(&plot("ok.csv", "w.jpg"), &["written as PNG"]);
+    refused(&plot("ok.csv", "nodir/w.png"), &["does not exist"]);
+    refused(&plot("ok.csv", "ok.csv"), &["written as PNG"]);
+    let o = plot("ok.csv", "w.png");
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(std::fs::read(dir.join("w.png")).unwrap().starts_with(b"\x89PNG"));
+    assert!(!dir.join("w.partial.png").exists());
+}

@@ -22,6 +22,10 @@ fn register() {
 /// finite value is refused. The y axis carries the columns' unit when they share one (else
 /// each legend entry does); an empty `title` becomes the columns and the file's name.
 pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, out: &Path) -> Result<(), String> {
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        return Err(format!("-o {}: the plot is written as PNG; name a .png file", out.display()));
+    }
+    super::paths::check_outputs(&[csv.to_path_buf()], &[("-o", out)])?;
     register();
     let mut reader = csv::Reader::from_path(csv).map_err(|e| format!("cannot read {}: {e}", csv.display()))?;
     let header: Vec<String> =
@@ -64,6 +68,24 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
         return Err(format!("{}: the columns {} have no finite value to plot", csv.display(), columns.join(", ")));
     }
     let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
+    // A span that f64 cannot hold (t from -1e308 to 1e308) would leave the axes without
+    // ticks to place: the plotting library loops for ever.
+    if !(t1 - t0).is_finite() {
+        return Err(format!(
+            "{}: t runs from {} to {} s, a span too wide to plot",
+            csv.display(),
+            crate::math::short(t0),
+            crate::math::short(t1)
+        ));
+    }
+    if !(hi - lo + 2.0 * pad).is_finite() {
+        return Err(format!(
+            "{}: the values run from {} to {}, a span too wide to plot",
+            csv.display(),
+            crate::math::short(lo),
+            crate::math::short(hi)
+        ));
+    }
     let units: Vec<&str> = columns.iter().map(|c| if degrees && is_angle(c) { "deg" } else { unit_of(c) }).collect();
     let shared = units.iter().all(|u| *u == units[0]);
     let y_desc = match (shared, units[0]) {
@@ -76,11 +98,41 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
     } else {
         title.to_string()
     };
+    // Drawn to `<name>.partial.png` (the backend picks the format by extension), renamed
+    // when complete: a failed plot leaves no file that looks complete.
+    let partial = out.with_file_name(format!(
+        "{}.partial.png",
+        out.file_stem().map_or_else(|| "plot".into(), |s| s.to_string_lossy().into_owned())
+    ));
+    let result = draw(&partial, &title, (t0, t1, lo, hi, pad), &y_desc, &t, &series, columns, &units, shared);
+    match result {
+        Ok(()) => std::fs::rename(&partial, out)
+            .map_err(|e| format!("cannot rename {} to {}: {e}", partial.display(), out.display())),
+        Err(e) => {
+            let _ = std::fs::remove_file(&partial);
+            Err(format!("cannot draw the plot {}: {e}", out.display()))
+        }
+    }
+}
+
+/// Draws the plot into the PNG file `out`.
+#[allow(clippy::too_many_arguments)]
+fn draw(
+    out: &Path,
+    title: &str,
+    (t0, t1, lo, hi, pad): (f64, f64, f64, f64, f64),
+    y_desc: &str,
+    t: &[f64],
+    series: &[Vec<f64>],
+    columns: &[String],
+    units: &[&str],
+    shared: bool,
+) -> Result<(), String> {
     let root = BitMapBackend::new(out, (1200, 700)).into_drawing_area();
-    let err = |e: &dyn std::fmt::Display| format!("plotting {}: {e}", out.display());
+    let err = |e: &dyn std::fmt::Display| e.to_string();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(&title, ("sans-serif", 26))
+        .caption(title, ("sans-serif", 26))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(90)

@@ -233,12 +233,32 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             .map_err(|m| ctx.span(&h.a, format!("hinge '{name}' a: {m}")))?
             .unwrap_or_default();
         let law = law(ctx, name, &h.law)?;
+        let r_child_in_a = vec3(Some(a.child_com));
+        let a0_offset = match &parent_frame {
+            ParentFrame::Given { r_a0_in_parent, .. } => r_a0_in_parent.norm(),
+            ParentFrame::Assembled => 0.0,
+        };
+        for (offset, body, what, span) in
+            [(a0_offset, parent, "a0.position", h.a0.span()), (r_child_in_a.norm(), child, "a.child_com", h.a.span())]
+        {
+            let size = body_size(&bodies[body]);
+            if offset > FAR_HINGE * size && offset > 1.0 {
+                ctx.warn(
+                    span,
+                    format!(
+                        "hinge '{name}': {what} puts the hinge {offset:.4} m from body '{}''s centre of mass, {:.0} times the body's size ({size:.3} m): a length in mm where m was meant?",
+                        bodies[body].name,
+                        offset / size
+                    ),
+                );
+            }
+        }
         specs.push(HingeSpec {
             name: name.clone(),
             parent,
             child,
             parent_frame,
-            r_child_in_a: vec3(Some(a.child_com)),
+            r_child_in_a,
             dcm_child_a: theta_c_a.to_dcm(),
             law,
         });
@@ -467,6 +487,17 @@ fn names(bodies: &[RawBody]) -> String {
 
 fn hinge_names(hinges: &[RawHinge]) -> String {
     hinges.iter().map(|h| h.name.get_ref().as_str()).collect::<Vec<_>>().join(", ")
+}
+
+/// A hinge this many times a body's size from its centre of mass draws a warning.
+const FAR_HINGE: f64 = 100.0;
+
+/// A body's size, m: the radius of its shape's outline, or at least its radius of gyration
+/// `√(tr I / 2m)` (a body without a shape has only its inertia to go by).
+fn body_size(b: &crate::model::Body) -> f64 {
+    let gyration = (b.inertia_in_body.trace() / (2.0 * b.mass)).sqrt();
+    let outline = b.shape.as_ref().map_or(0.0, |s| s.outline().iter().map(|p| p.norm()).fold(0.0, f64::max));
+    gyration.max(outline)
 }
 
 fn parent_frame(ctx: &Ctx<'_>, hinge: &str, v: &Spanned<toml::Value>) -> Result<ParentFrame, ScenarioError> {

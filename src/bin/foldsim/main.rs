@@ -12,6 +12,7 @@ mod run;
 mod sweep;
 #[cfg(feature = "animation")]
 mod view;
+mod watch;
 
 use args::{Cli, Command, Shape};
 use clap::Parser;

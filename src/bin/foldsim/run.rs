@@ -88,7 +88,10 @@ pub(crate) fn run(
         );
         bar
     });
+    let mut watch = crate::watch::Watch::new("foldsim run", quiet);
+    let hint = "to shorten it, loosen run.rtol and run.atol, soften or damp the stiffest hinges, try integrator = \"sdirk4\" for stiff hinges, or shorten run.duration; Ctrl-C stops it";
     let mut tick = |t: f64| {
+        watch.tick(t, duration, "s", hint);
         if let Some(b) = &bar {
             b.set_position((1000.0 * t / duration) as u64);
             b.set_message(format!("{t:.3} s"));

@@ -1,0 +1,73 @@
+//! What a long command says while it works, beyond the progress bar on a terminal: a
+//! one-line report to standard error at least every [`REPORT_EVERY`] when standard error is
+//! not a terminal (scripts, notebooks, CI), and, once, after a second of wall time, a note
+//! when the whole run is projected to take more than [`LONG`] (even under `--quiet`: a run
+//! of hours should never start in silence).
+
+use foldsim::simulate::estimate::human_seconds;
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// How often a run off a terminal reports its progress (the environment variable
+/// `FOLDSIM_PROGRESS_EVERY`, in seconds, changes it: for logs that want more, and for tests).
+pub(crate) const REPORT_EVERY: Duration = Duration::from_secs(30);
+
+fn report_every() -> Duration {
+    std::env::var("FOLDSIM_PROGRESS_EVERY")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .map_or(REPORT_EVERY, Duration::from_secs_f64)
+}
+/// A run projected longer than this says so early.
+pub(crate) const LONG: f64 = 60.0;
+
+/// Watches one command's progress.
+pub(crate) struct Watch {
+    what: &'static str,
+    started: Instant,
+    last_report: Instant,
+    lines: bool,
+    every: Duration,
+    warned: bool,
+}
+
+impl Watch {
+    /// A watch of `what` (`foldsim run`); lines off a terminal unless `quiet`.
+    pub(crate) fn new(what: &'static str, quiet: bool) -> Self {
+        let now = Instant::now();
+        let lines = !quiet && !std::io::stderr().is_terminal();
+        Self { what, started: now, last_report: now, lines, every: report_every(), warned: false }
+    }
+
+    /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`).
+    pub(crate) fn tick(&mut self, done: f64, total: f64, unit: &str, hint: &str) {
+        let wall = self.started.elapsed().as_secs_f64();
+        let left = if done > 0.0 { wall * (total - done) / done } else { f64::INFINITY };
+        if !self.warned && wall >= 1.0 {
+            self.warned = true;
+            if wall + left > LONG {
+                let projected =
+                    if left.is_finite() { format!("about {}", human_seconds(wall + left)) } else { "very long".into() };
+                eprintln!(
+                    "note: {} will take {projected} ({done:.4} of {total} {unit} after {wall:.1} s); {hint}",
+                    self.what
+                );
+            }
+        }
+        if self.lines && self.last_report.elapsed() >= self.every {
+            self.last_report = Instant::now();
+            let left = if left.is_finite() {
+                format!("about {} left", human_seconds(left))
+            } else {
+                "time left unknown".into()
+            };
+            eprintln!(
+                "{}: {done:.4} of {total} {unit} ({:.0} %), {} so far, {left}",
+                self.what,
+                100.0 * done / total,
+                human_seconds(wall)
+            );
+        }
+    }
+}

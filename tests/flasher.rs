@@ -210,9 +210,9 @@ fn generate_flasher_reports_and_refuses_nonsense() {
         assert!(text.contains(fact), "{fact} missing from:\n{text}");
     }
     for (args, says) in [
-        (vec!["--gores", "2", "--rings", "3"], "3 ≤ gores"),
-        (vec!["--gores", "6", "--rings", "0"], "rings ≥ 1"),
-        (vec!["--gores", "6", "--rings", "3", "--hub-radius", "-1"], "hub radius"),
+        (vec!["--gores", "2", "--rings", "3"], "--gores must be 3 to 1000"),
+        (vec!["--gores", "6", "--rings", "0"], "--rings must be at least 1"),
+        (vec!["--gores", "6", "--rings", "3", "--hub-radius", "-1"], "--hub-radius"),
         (vec!["--gores", "6", "--rings", "3", "--areal-density", "0"], "--areal-density"),
         (vec!["--gores", "6", "--rings", "3", "--c-fold", "-1"], "--c-fold"),
         (vec!["--gores", "6", "--rings", "3", "--panel-mass", "2"], "do not apply to a flasher"),

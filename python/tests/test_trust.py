@@ -155,3 +155,13 @@ def test_generator_errors_name_the_argument():
     ]:
         with pytest.raises(kind, match=says):
             call()
+
+
+def test_progress_off_a_terminal_is_a_line_at_the_interval(monkeypatch, capsys):
+    monkeypatch.setenv("FOLDSIM_PROGRESS_EVERY", "0.05")
+    s = foldsim.load(ROOT / "examples" / "paper-3panel.toml").with_values({"run.rtol": 1e-13, "run.atol": 1e-13, "run.duration": 200.0, "run.output_step": 1.0})
+    s.run()
+    err = capsys.readouterr().err
+    assert "foldsim: " in err and " of 200 s (" in err, err
+    s.run(progress=False)
+    assert capsys.readouterr().err == ""

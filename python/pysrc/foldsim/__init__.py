@@ -177,12 +177,49 @@ class _Bar:
         self.bar.close()
 
 
-def _progress_bar(total: float, unit: str, progress: bool | None) -> _Bar | None:
-    """A progress bar when asked for (progress=True) or, by default, when someone watches."""
-    if progress is None:
-        progress = _interactive()
-    if not isinstance(progress, bool):
+class _Lines:
+    """Off a terminal and out of a notebook (a script, a batch job): one line to standard
+    error at most every 30 s (``FOLDSIM_PROGRESS_EVERY`` seconds), so a long run is seen to
+    move in a log and a short one stays quiet."""
+
+    def __init__(self, total: float, unit: str):
+        import time
+
+        self.total, self.unit, self.n = total, unit, 0.0
+        self.clock = time.monotonic
+        self.started = self.last = self.clock()
+        try:
+            self.every = float(os.environ.get("FOLDSIM_PROGRESS_EVERY", "30"))
+        except ValueError:
+            self.every = 30.0
+        self.bar = self  # set_postfix, as tqdm's bar has it
+
+    def set_postfix(self, **_kwargs) -> None:
+        pass
+
+    def update_to(self, position: float) -> None:
+        self.n = position
+        now = self.clock()
+        if now - self.last >= self.every:
+            self.last = now
+            elapsed = now - self.started
+            left = elapsed * (self.total - position) / position if position > 0 else float("nan")
+            sys.stderr.write(
+                f"foldsim: {position:.4g} of {self.total:.4g} {self.unit} ({100 * position / self.total:.0f} %), {elapsed:.0f} s so far, about {left:.0f} s left\n"
+            )
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        pass
+
+
+def _progress_bar(total: float, unit: str, progress: bool | None) -> _Bar | _Lines | None:
+    """A progress bar when asked for (progress=True) or, by default, when someone watches (a
+    terminal, a notebook); by default elsewhere, a line every 30 s; nothing for progress=False."""
+    if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"progress must be True, False or None, not {type(progress).__name__}")
+    if progress is None:
+        return _Bar(total, unit) if _interactive() else _Lines(total, unit)
     return _Bar(total, unit) if progress else None
 
 

@@ -9,9 +9,9 @@
 # run in parallel on this machine's cores (or on a Dask cluster: pass `client=`), and the
 # deployment time (90 % of the deployed radius) is plotted against the stiffness.
 #
-# Run it from the repository root after installing the package (README):
+# Run it after installing the package (README), naming the figure to write:
 #
-#     python examples/python/flasher_dispersion.py      # writes flasher_dispersion.png
+#     python examples/python/flasher_dispersion.py dispersion.png
 #
 # About 2 minutes on 2 cores. Cells are marked `# %%` for editors that run them one by one.
 
@@ -21,6 +21,11 @@ import sys
 import time
 
 import foldsim
+
+if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
+    sys.exit("usage: python flasher_dispersion.py FIGURE.png  (where to write the figure)")
+out = sys.argv[1]
+foldsim._foldsim.check_outputs([], [("the figure", out)])
 
 # The spin-deployed flasher of examples/flasher-spin.toml, made by the generator: weak damped
 # folds, stiff hinges otherwise, 20 rev/min, released at 0.5 s; 6 s is long enough to open.
@@ -67,6 +72,5 @@ ax.set_ylabel("time to 90 % of the deployed radius (s)")
 ax.set_title(f"Spin-deployed flasher, 6 gores × 3 rings: {len(ok)} runs")
 fig.colorbar(points, label="initial spin (rev/min)")
 fig.tight_layout()
-out = sys.argv[1] if len(sys.argv) > 1 else "flasher_dispersion.png"
 fig.savefig(out)
 print(f"plot -> {out}")

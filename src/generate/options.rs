@@ -79,28 +79,76 @@ fn run_checked(
 
 /// Builds generated scenario text as `foldsim run` will, so that a generator never writes
 /// a scenario the loader refuses; the loader's words, without the line of a file the user
-/// never saw.
-pub fn loadable(text: &str) -> Result<(), String> {
+/// never saw, and the options that were given values other than their defaults (`changed`:
+/// name and value), among which the culprit is.
+pub fn loadable(text: &str, changed: &[(String, f64)]) -> Result<(), String> {
     crate::scenario::Scenario::from_toml(text, "generated").map(|_| ()).map_err(|e| {
+        let given = if changed.is_empty() {
+            "every option at its default".to_string()
+        } else {
+            let list: Vec<String> = changed.iter().map(|(k, v)| format!("{k} {}", short(*v))).collect();
+            format!("the options given: {}", list.join(", "))
+        };
         format!(
-            "these options give a scenario that foldsim refuses: {} (check the options' sizes and units)",
+            "these options give a scenario that foldsim refuses: {} ({given}; check their sizes and units)",
             e.message
         )
     })
+}
+
+/// The options among `values` (key, value, default) that differ from their defaults, named.
+fn changed(values: &[(&str, f64, f64)], name: &dyn Fn(&str) -> String) -> Vec<(String, f64)> {
+    values.iter().filter(|(_, v, d)| v.to_bits() != d.to_bits()).map(|(k, v, _)| (name(k), *v)).collect()
+}
+
+/// A length within what a structure can be (1 µm to 1,000 km), or an error naming it: beyond,
+/// f64 geometry loses the digits a panel needs.
+fn length(v: f64, key: &str, name: &dyn Fn(&str) -> String) -> Result<f64, String> {
+    positive(v, key, "m", name)?;
+    if !(1e-6..=1e6).contains(&v) {
+        return Err(format!("{} = {} m is not a structure's size: give 1e-6 to 1e6 m", name(key), short(v)));
+    }
+    Ok(v)
+}
+
+impl Params {
+    /// The options that differ from [`Params::default`], named.
+    pub fn changed(&self, name: &dyn Fn(&str) -> String) -> Vec<(String, f64)> {
+        let d = Params::default();
+        changed(
+            &[
+                ("panel_mass", self.panel_mass, d.panel_mass),
+                ("panel_length", self.panel_length, d.panel_length),
+                ("panel_width", self.panel_width, d.panel_width),
+                ("k_translation", self.k_translation, d.k_translation),
+                ("k_bending", self.k_bending, d.k_bending),
+                ("k_fold", self.k_fold, d.k_fold),
+                ("fold_deg", self.fold_deg, d.fold_deg),
+                ("duration", self.duration, d.duration),
+                ("output_step", self.output_step, d.output_step),
+                ("tolerance", self.tolerance, d.tolerance),
+            ],
+            name,
+        )
+    }
 }
 
 impl Params {
     /// Checks every value (positive masses, lengths, times and tolerance; stiffnesses ≥ 0).
     pub fn check(&self, name: &dyn Fn(&str) -> String) -> Result<(), String> {
         positive(self.panel_mass, "panel_mass", "kg", name)?;
-        positive(self.panel_length, "panel_length", "m", name)?;
-        positive(self.panel_width, "panel_width", "m", name)?;
+        length(self.panel_length, "panel_length", name)?;
+        length(self.panel_width, "panel_width", name)?;
         run_checked(self.duration, self.output_step, self.tolerance, None, name)?;
         at_least_zero(self.k_translation, "k_translation", "N/m", name)?;
         at_least_zero(self.k_bending, "k_bending", "N·m/rad", name)?;
         at_least_zero(self.k_fold, "k_fold", "N·m/rad", name)?;
-        if !self.fold_deg.is_finite() {
-            return Err(format!("{} must be a finite angle in degrees", name("fold_deg")));
+        if !(self.fold_deg.is_finite() && self.fold_deg.abs() <= 360.0) {
+            return Err(format!(
+                "{} must be an angle from -360 to 360 degrees; got {}",
+                name("fold_deg"),
+                short(self.fold_deg)
+            ));
         }
         Ok(())
     }
@@ -113,7 +161,7 @@ pub fn zfold_checked(panels: usize, p: &Params, name: &dyn Fn(&str) -> String) -
         return Err(format!("a z-fold needs 1 ≤ {} ≤ {MAX_PANELS}; got {panels}", name("panels")));
     }
     let text = super::zfold(panels, p);
-    loadable(&text)?;
+    loadable(&text, &p.changed(name))?;
     Ok(text)
 }
 
@@ -128,7 +176,7 @@ pub fn grid_checked(rows: usize, cols: usize, p: &Params, name: &dyn Fn(&str) ->
         ));
     }
     let text = super::grid(rows, cols, p);
-    loadable(&text)?;
+    loadable(&text, &p.changed(name))?;
     Ok(text)
 }
 
@@ -191,6 +239,42 @@ impl Default for FlasherOptions {
 }
 
 impl FlasherOptions {
+    /// The numeric options that differ from [`FlasherOptions::default`], named.
+    pub fn changed(&self, name: &dyn Fn(&str) -> String) -> Vec<(String, f64)> {
+        let d = FlasherOptions::default();
+        let (l, dl) = (&self.laws, &d.laws);
+        let mut out = changed(
+            &[
+                ("hub_radius", self.hub_radius, d.hub_radius),
+                ("thickness", self.thickness, d.thickness),
+                ("areal_density", self.areal_density, d.areal_density),
+                ("hub_mass", self.hub_mass, d.hub_mass),
+                ("k_fold", l.k_fold, dl.k_fold),
+                ("c_fold", l.c_fold, dl.c_fold),
+                ("k_panel_bending", l.k_bending, dl.k_bending),
+                ("c_panel_bending", l.c_bending, dl.c_bending),
+                ("k_translation", l.k_translation, dl.k_translation),
+                ("c_translation", l.c_translation, dl.c_translation),
+                ("k_bending", l.k_rotation, dl.k_rotation),
+                ("c_rotation", l.c_rotation, dl.c_rotation),
+                ("spin_rpm", self.spin_rpm, d.spin_rpm),
+                ("duration", self.duration, d.duration),
+                ("tolerance", self.tolerance, d.tolerance),
+            ],
+            name,
+        );
+        if let Some(v) = self.hub_inertia {
+            out.extend(v.iter().enumerate().map(|(i, x)| (format!("{} component {}", name("hub_inertia"), i + 1), *x)));
+        }
+        if let Some(t) = self.output_step {
+            out.push((name("output_step"), t));
+        }
+        if let Some(t) = self.release_at {
+            out.push((name("release_at"), t));
+        }
+        out
+    }
+
     /// Checks the options and writes the scenario text and the generator's report. `name`
     /// spells an option's key as the caller takes it (`--k-fold` or `k_fold`).
     pub fn scenario(&self, name: &dyn Fn(&str) -> String) -> Result<(String, FlasherReport), String> {
@@ -216,7 +300,7 @@ impl FlasherOptions {
                 name("rings")
             ));
         }
-        positive(self.hub_radius, "hub_radius", "m", name)?;
+        length(self.hub_radius, "hub_radius", name)?;
         positive(self.areal_density, "areal_density", "kg/m²", name)?;
         positive(self.hub_mass, "hub_mass", "kg", name)?;
         at_least_zero(self.thickness, "thickness", "m", name)?;
@@ -282,7 +366,7 @@ impl FlasherOptions {
             run,
         };
         let (text, report) = flasher_scenario(&shape, &self.laws, &params)?;
-        loadable(&text)?;
+        loadable(&text, &self.changed(name))?;
         Ok((text, report))
     }
 }

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod fuzz;
+
 use foldsim::observe::{Observation, catalogue, row};
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{RunReport, simulate};

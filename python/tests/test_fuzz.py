@@ -1,0 +1,100 @@
+"""Fuzzing the Python values: random nested values (dicts, lists, tuples, NumPy arrays and
+scalars, bytes, None, sets, non-finite and huge numbers, odd strings, values that contain
+themselves) given to from_dict, with_values, get and sweep. Each must give a scenario or raise
+ValueError, TypeError or KeyError; never crash the interpreter, never another exception.
+
+A small budget as a test; longer: FOLDSIM_FUZZ_INPUTS=5000 FOLDSIM_FUZZ_SEED=7 pytest python/tests/test_fuzz.py
+"""
+
+import math
+import os
+import random
+from pathlib import Path
+
+import numpy as np
+
+import foldsim
+
+ROOT = Path(__file__).resolve().parents[2]
+BASE = foldsim.load(ROOT / "examples" / "paper-1panel.toml").with_values({"run.duration": 0.1})
+BASE_DICT = {
+    "run": {"duration": 0.1, "output_step": 0.05, "integrator": "dop853", "rtol": 1e-8, "atol": 1e-8},
+    "body": [{"name": "hub", "mass": 100.0, "inertia": [100.0, 100.0, 100.0]}, {"name": "panel", "mass": 10.0, "inertia": [1.0, 1.0, 1.0]}],
+    "hinge": [{"name": "h1", "parent": "hub", "child": "panel", "a0": {"position": [0.75, 0.433, 0.0]}, "a": {"child_com": [1.0, 1.0, 0.0]},
+               "law": {"type": "euler-potential", "k_f": 100.0, "k_theta": 10.0}}],
+}
+PATHS = ["hinge.h1.law.k_theta", "hinge.*.law.c_f", "body.panel.mass", "body.1.inertia", "run.duration", "run.integrator",
+         "initial.hub.omega", "title", "hinge.h9.x", "", "a..b", "body.hub.inertia.7", "sweep.runs", "run.nothing"]
+ALLOWED = (ValueError, TypeError, KeyError)
+
+
+def leaf(rng: random.Random):
+    return rng.choice([
+        0, 1, -1, 2**70, -(2**70), 0.5, -0.0, math.nan, math.inf, -math.inf, 1e300, 1e-300, True, None, "x", "", "h1",
+        "dop853", "\u0000", "é" * 3, b"bytes", np.float64(2.0), np.int64(3), np.float32(np.nan), np.array([1.0, 2.0, 3.0]),
+        np.zeros((2, 2)), np.array([]), np.array(["a"]), {1, 2}, complex(1, 2), object(),
+    ])
+
+
+def value(rng: random.Random, depth: int = 0):
+    r = rng.random()
+    if depth > 3 or r < 0.5:
+        return leaf(rng)
+    if r < 0.75:
+        return [value(rng, depth + 1) for _ in range(rng.randrange(4))]
+    if r < 0.85:
+        return tuple(value(rng, depth + 1) for _ in range(rng.randrange(3)))
+    d = {rng.choice(["mass", "name", "law", "k_f", "duration", 3, "inertia", "run", "x"]): value(rng, depth + 1) for _ in range(rng.randrange(4))}
+    if rng.random() < 0.1:
+        d["self"] = d
+    return d
+
+
+def mutated_dict(rng: random.Random) -> dict:
+    import copy
+
+    d = copy.deepcopy(BASE_DICT)
+    for _ in range(1 + rng.randrange(3)):
+        # Every dict in the tree (a mutation may already have replaced some).
+        dicts, stack = [], [d]
+        while stack:
+            x = stack.pop()
+            if isinstance(x, dict) and all(x is not y for y in dicts):
+                dicts.append(x)
+                stack.extend(x.values())
+            elif isinstance(x, list):
+                stack.extend(x)
+        target = rng.choice(dicts)
+        key = rng.choice(list(target.keys()) + ["extra", "inertia", "mass"])
+        target[key] = value(rng)
+    return d
+
+
+def test_python_values_give_a_scenario_or_a_named_exception():
+    n = int(os.environ.get("FOLDSIM_FUZZ_INPUTS", "300"))
+    seed = int(os.environ.get("FOLDSIM_FUZZ_SEED", "1"))
+    rng = random.Random(seed)
+    counts = {"built": 0, "refused": 0}
+    for i in range(n):
+        kind = rng.randrange(4)
+        try:
+            if kind == 0:
+                foldsim.from_dict(mutated_dict(rng))
+            elif kind == 1:
+                BASE.with_values({rng.choice(PATHS): value(rng) for _ in range(1 + rng.randrange(2))})
+            elif kind == 2:
+                BASE.get(rng.choice(PATHS + [value(rng)]))
+            else:
+                params = {rng.choice(PATHS): value(rng) if rng.random() < 0.5 else {"distribution": "uniform", "low": leaf(rng), "high": leaf(rng)}}
+                foldsim.sweep(BASE, params, runs=2, seed=1, progress=False, workers=1)
+            counts["built"] += 1
+        except ALLOWED:
+            counts["refused"] += 1
+        except RuntimeError as e:
+            # Every run of a sweep failed: a refusal in words, with the first run's error.
+            assert kind == 3 and "every run of the sweep failed" in str(e), f"seed {seed} input {i}: {e!r}"
+            counts["refused"] += 1
+        except Exception as e:  # noqa: BLE001: the point is to catch any other kind
+            raise AssertionError(f"seed {seed} input {i} (kind {kind}): {type(e).__name__}: {e}") from e
+    print(f"fuzz Python values (seed {seed}): {n} inputs: {counts}")
+    assert counts["built"] > 0 and counts["refused"] > 0

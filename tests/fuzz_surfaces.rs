@@ -270,7 +270,7 @@ fn fuzzed_generator_options_give_loadable_scenarios_or_name_the_option() {
     let started = Instant::now();
     for i in 0..n {
         // Mostly sensible values with one or two fuzzed, so both outcomes are reached.
-        let mut pick = |rng: &mut Rng, sensible: f64| if rng.below(4) == 0 { *rng.pick(NUMBERS) } else { sensible };
+        let pick = |rng: &mut Rng, sensible: f64| if rng.below(4) == 0 { *rng.pick(NUMBERS) } else { sensible };
         let what = format!("seed {seed} input {i}");
         let outcome = catch_unwind(AssertUnwindSafe(|| match rng.below(3) {
             0 | 1 => {
@@ -320,7 +320,9 @@ fn fuzzed_generator_options_give_loadable_scenarios_or_name_the_option() {
                 if rng.below(4) == 0 {
                     o.output_step = Some(pick(&mut rng, 0.01));
                 }
-                o.panels = panel_model(*rng.pick(&["triangles", "quads", "ring-quads"])).unwrap();
+                const MODELS: [&str; 3] = ["triangles", "quads", "ring-quads"];
+                let model = MODELS[rng.below(3)];
+                o.panels = panel_model(model).unwrap();
                 (format!("{what} flasher {o:?}"), o.scenario(&key).map(|(text, _)| text))
             }
         }));

@@ -1,6 +1,8 @@
 // Opens a page written by `foldsim view` in headless Chromium and checks it: no console
-// errors, the structure drawn (the canvas is not blank), and moving the time slider changes
-// the picture. Saves screenshots at the first and last time.
+// errors, the structure drawn (the canvas is not blank), moving the time slider changes the
+// picture, and each plotted column has an axis of its own with ticks. Then opens it again
+// with WebGL switched off: the page must say so in words and still draw the plot. Saves
+// screenshots at the first and last time, and of the page without WebGL.
 // Usage: node tools/viewer-test/test.mjs PAGE.html SHOTS_DIR [FRACTION_OF_DURATION]
 import { chromium } from 'playwright-core';
 import path from 'path';
@@ -22,11 +24,30 @@ const slide = async (fraction) => page.evaluate((f) => {
   s.dispatchEvent(new Event('input'));
   return window.foldsimView.pixels();
 }, fraction);
+const axes = await page.evaluate(() => window.foldsimView.plotAxes || []);
+const columns = await page.evaluate(() => window.FOLDSIM_DATA.plot.names);
 const first = await slide(0);
 await page.screenshot({ path: path.join(shots, path.basename(pagePath, '.html') + '-start.png') });
 const last = await slide(Number(at));
 await page.screenshot({ path: path.join(shots, path.basename(pagePath, '.html') + '-end.png') });
 await browser.close();
+
+// Without WebGL: a message where the structure would be, the plot still drawn.
+const bare = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--disable-3d-apis', '--disable-webgl', '--no-sandbox'],
+});
+const page2 = await bare.newPage({ viewport: { width: 1280, height: 720 } });
+const errors2 = [];
+page2.on('pageerror', (e) => errors2.push(String(e)));
+await page2.goto('file://' + path.resolve(pagePath));
+await page2.waitForFunction(() => window.foldsimView && window.foldsimView.ready, null, { timeout: 60000 });
+const without = await page2.evaluate(() => ({
+  note: (document.getElementById('nowebgl') || {}).textContent || '',
+  axes: (window.foldsimView.plotAxes || []).length,
+}));
+await page2.screenshot({ path: path.join(shots, path.basename(pagePath, '.html') + '-nowebgl.png') });
+await bare.close();
 
 // The background is a light grey (luminance ~245): pixels far from it are the structure.
 const drawn = first.filter((v) => Math.abs(v - 245) > 12).length / first.length;
@@ -35,7 +56,12 @@ const problems = [];
 if (errors.length) problems.push('console errors: ' + errors.join(' | '));
 if (drawn < 0.01) problems.push(`the canvas is blank (${(100 * drawn).toFixed(2)} % drawn)`);
 if (changed < 0.005) problems.push(`moving the slider changed ${(100 * changed).toFixed(2)} % of the picture`);
-console.log(`${pagePath}: ${(100 * drawn).toFixed(1)} % of the canvas drawn, ${(100 * changed).toFixed(1)} % changed by the slider, ${errors.length} console errors`);
+if (axes.length !== columns.length) problems.push(`${columns.length} plotted columns but ${axes.length} axes`);
+for (const a of axes) if (a.ticks.length < 2) problems.push(`the axis of ${a.name} has ${a.ticks.length} ticks`);
+if (!without.note.includes('no WebGL')) problems.push('without WebGL the page does not say so');
+if (without.axes !== columns.length) problems.push(`without WebGL the plot has ${without.axes} axes`);
+if (errors2.length) problems.push('errors without WebGL: ' + errors2.join(' | '));
+console.log(`${pagePath}: ${(100 * drawn).toFixed(1)} % of the canvas drawn, ${(100 * changed).toFixed(1)} % changed by the slider, ${errors.length} console errors, ${axes.length} plot axes; without WebGL: ${without.note ? 'said so' : 'silent'}, ${without.axes} axes`);
 if (problems.length) {
   console.error(problems.join('\n'));
   process.exit(1);

@@ -32,9 +32,11 @@ pub struct Observation {
     /// Per hinge: `ω_{A/A0}`, rad/s, A components.
     pub hinge_omega_rel_in_a: Vec<Vec3>,
     /// Per hinge, the law's restoring force `F`, N, A0 components (the child receives −F at
-    /// A's origin, the parent +F); reactions of locked directions are not included.
+    /// A's origin, the parent +F); a run adds the reactions of locked directions
+    /// (`crate::dynamics::reactions`).
     pub hinge_force_in_a0: Vec<Vec3>,
-    /// Per hinge, the law's restoring torque `τ`, N·m, A components (the child receives −τ).
+    /// Per hinge, the law's restoring torque `τ`, N·m, A components (the child receives −τ);
+    /// a run adds the locked directions' reaction couples.
     pub hinge_torque_in_a: Vec<Vec3>,
     /// Per body: CoM `R_i`, m, N components.
     pub body_r_in_n: Vec<Vec3>,

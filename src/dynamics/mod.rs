@@ -13,6 +13,7 @@ pub mod jacobian;
 pub mod locks;
 pub mod momentum;
 pub mod newton;
+pub mod reactions;
 
 use crate::kinematics::{HingeKinematics, hinge_kinematics};
 use crate::law::{EventKind, HingeWrench, LawMemory};

@@ -99,8 +99,14 @@ impl OutputTimes {
 
 impl StreamOut<'_, '_, '_, '_> {
     fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
-        let o =
+        let mut o =
             self.observer.observe(self.dynamics.model(), t, y, &self.dynamics.theta_refs(), &self.dynamics.memories());
+        // Locked directions carry loads too: their reactions join the law's in the wrench
+        // columns (dynamics/reactions.rs).
+        for r in self.dynamics.lock_reactions(y) {
+            o.hinge_force_in_a0[r.hinge] += r.force_in_a0;
+            o.hinge_torque_in_a[r.hinge] += r.torque_in_a;
+        }
         if let Some(first) = &self.first {
             let d = &mut self.drift;
             d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n).norm());

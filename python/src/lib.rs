@@ -12,13 +12,14 @@ mod generate;
 mod scenario;
 mod sweep;
 
+use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use std::ops::ControlFlow;
 
 /// A run's progress callback that looks at Python's signals every 100 ms (taking the GIL
 /// briefly) and stops the run on Ctrl-C; it also hands the simulated time (s) to `report`
-/// (a progress bar's update), if given. An exception raised by `report` is ignored: a progress
-/// display must not end a run.
+/// (a progress bar's update), if given. An exception raised by `report` is ignored (a progress
+/// display must not end a run), except Ctrl-C's KeyboardInterrupt, which stops it.
 pub(crate) fn interrupt_check(report: Option<Py<PyAny>>) -> impl FnMut(f64) -> ControlFlow<()> {
     let mut last = std::time::Instant::now();
     move |t: f64| {
@@ -27,10 +28,15 @@ pub(crate) fn interrupt_check(report: Option<Py<PyAny>>) -> impl FnMut(f64) -> C
         }
         last = std::time::Instant::now();
         let interrupted = Python::attach(|py| {
-            if let Some(f) = &report {
-                let _ = f.call1(py, (t,));
+            // Signals first: Python code run by the report would take a pending Ctrl-C
+            // (raised inside it), which must stop the run, not vanish with the report.
+            if py.check_signals().is_err() {
+                return true;
             }
-            py.check_signals().is_err()
+            match &report {
+                Some(f) => f.call1(py, (t,)).err().is_some_and(|e| e.is_instance_of::<PyKeyboardInterrupt>(py)),
+                None => false,
+            }
         });
         if interrupted { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     }

@@ -513,6 +513,23 @@ fn shapes_give_mass_properties_or_located_errors() {
     let boxed = "name = \"p1\"\nshape = { box = [1.0, 2.0, 3.0] }\nmass = 12.0";
     let s = Scenario::from_toml(&GOOD.replacen(p1, boxed, 1), "box.toml").unwrap_or_else(|e| panic!("{e}"));
     assert!((s.model.bodies[1].inertia_in_body[(0, 0)] - 13.0).abs() < 1e-12, "m/12 (b² + c²) = 13");
+    // A cylinder about z from its mass: I_z = m r²/2 = 6, I_x = m (3r² + h²)/12 = 3.36.
+    let cylinder = "name = \"p1\"\nshape = { cylinder = { radius = 1.0, height = 0.6 } }\nmass = 12.0";
+    let s = Scenario::from_toml(&GOOD.replacen(p1, cylinder, 1), "cyl.toml").unwrap_or_else(|e| panic!("{e}"));
+    let i = s.model.bodies[1].inertia_in_body;
+    assert!((i[(2, 2)] - 6.0).abs() < 1e-12 && (i[(0, 0)] - 3.36).abs() < 1e-12 && (i[(1, 1)] - 3.36).abs() < 1e-12);
+    expect_error(
+        |g| g.replacen(p1, "name = \"p1\"\nshape = { cylinder = { radius = 0.0, height = 0.6 } }\nmass = 12.0", 1),
+        Some("shape ="),
+        &["p1", "cylinder's radius and height must be finite and > 0 m"],
+    );
+    expect_error(
+        |g| {
+            g.replacen(p1, "name = \"p1\"\nshape = { cylinder = { radius = 1.0, height = 0.6 }, box = [1.0, 1.0, 1.0] }\nmass = 12.0", 1)
+        },
+        Some("shape ="),
+        &["p1", "a shape is one of", "cylinder = { radius = r, height = h }"],
+    );
     // Off the centre of mass, a density without a shape, neither mass nor density, a crossed polygon.
     let off = "name = \"p1\"\nshape = { polygon = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]] }\ndensity = 5.0";
     expect_error(|g| g.replacen(p1, off, 1), Some("shape ="), &["p1", "centroid", "move the shape by [-1e0, -5e-1"]);

@@ -26,7 +26,10 @@ pub(super) fn body(ctx: &Ctx<'_>, b: &RawBody) -> Result<Body, ScenarioError> {
     let (mass, inertia) = match &shape {
         None => {
             if let Some(d) = &b.density {
-                return Err(here(d.span(), "'density' needs a 'shape' (a plate or a box) to apply to".into()));
+                return Err(here(
+                    d.span(),
+                    "'density' needs a 'shape' (a plate, a box or a cylinder) to apply to".into(),
+                ));
             }
             match (&b.mass, inertia) {
                 (Some(m), Some(i)) => (*m.get_ref(), i),
@@ -85,7 +88,8 @@ pub(super) fn body(ctx: &Ctx<'_>, b: &RawBody) -> Result<Body, ScenarioError> {
                 (None, None) => {
                     return Err(here(
                         sp.span(),
-                        "a shape needs a 'density' (kg/m² for a plate, kg/m³ for a box) or a 'mass' (kg)".into(),
+                        "a shape needs a 'density' (kg/m² for a plate, kg/m³ for a box or a cylinder) or a 'mass' (kg)"
+                            .into(),
                     ));
                 }
             };
@@ -116,16 +120,17 @@ pub(super) fn body(ctx: &Ctx<'_>, b: &RawBody) -> Result<Body, ScenarioError> {
 fn shape(ctx: &Ctx<'_>, name: &str, s: &Spanned<RawShape>) -> Result<Shape, ScenarioError> {
     let r = s.get_ref();
     let v = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
-    let shape = match (&r.polygon, r.cuboid) {
-        (Some(vertices), None) => {
+    let shape = match (&r.polygon, r.cuboid, r.cylinder) {
+        (Some(vertices), None, None) => {
             Shape::Plate { vertices: vertices.iter().map(|p| v(*p)).collect(), thickness: r.thickness.unwrap_or(0.0) }
         }
-        (None, Some(size)) if r.thickness.is_none() => Shape::Cuboid { size: v(size), center: Vec3::zeros() },
+        (None, Some(size), None) if r.thickness.is_none() => Shape::Cuboid { size: v(size), center: Vec3::zeros() },
+        (None, None, Some(c)) if r.thickness.is_none() => Shape::Cylinder { radius: c.radius, height: c.height },
         _ => {
             return Err(ctx.span(
                 s,
                 format!(
-                    "body '{name}': a shape is either {{ polygon = [[x, y, z], …], thickness = … }} (m, body frame) or {{ box = [a, b, c] }} (m, edges along the body axes)"
+                    "body '{name}': a shape is one of {{ polygon = [[x, y, z], …], thickness = … }} (m, body frame), {{ box = [a, b, c] }} (m, edges along the body axes) or {{ cylinder = {{ radius = r, height = h }} }} (m, axis along the body's z axis)"
                 ),
             ));
         }

@@ -56,6 +56,14 @@ pub(super) struct RawShape {
     pub(super) thickness: Option<f64>,
     #[serde(rename = "box")]
     pub(super) cuboid: Option<[f64; 3]>,
+    pub(super) cylinder: Option<RawCylinder>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCylinder {
+    pub(super) radius: f64,
+    pub(super) height: f64,
 }
 
 #[derive(Deserialize)]

@@ -32,11 +32,11 @@ pub struct Observation {
     /// Per hinge: `ω_{A/A0}`, rad/s, A components.
     pub hinge_omega_rel_in_a: Vec<Vec3>,
     /// Per hinge, the law's restoring force `F`, N, A0 components (the child receives −F at
-    /// A's origin, the parent +F); a run adds the reactions of locked directions
-    /// (`crate::dynamics::reactions`).
+    /// A's origin, the parent +F); a run asked for hinge-load columns adds the reactions of
+    /// locked directions (`crate::dynamics::reactions`, `RunSettings::hinge_loads`).
     pub hinge_force_in_a0: Vec<Vec3>,
     /// Per hinge, the law's restoring torque `τ`, N·m, A components (the child receives −τ);
-    /// a run adds the locked directions' reaction couples.
+    /// a run asked for hinge-load columns adds the locked directions' reaction couples.
     pub hinge_torque_in_a: Vec<Vec3>,
     /// Per body: CoM `R_i`, m, N components.
     pub body_r_in_n: Vec<Vec3>,
@@ -260,6 +260,12 @@ fn inertia_about(model: &Model, motions: &[BodyMotion], center: &Vec3, axis: &Ve
         .sum()
 }
 
+/// Whether a column name is a hinge load's (`<hinge>_F_x` … `<hinge>_M_z`; no other column
+/// ends so, docs/outputs.md).
+pub fn is_hinge_load(name: &str) -> bool {
+    ["_F_x", "_F_y", "_F_z", "_M_x", "_M_y", "_M_z"].iter().any(|s| name.ends_with(s))
+}
+
 /// One output column.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Column {
@@ -356,6 +362,12 @@ pub struct Selection {
 }
 
 impl Selection {
+    /// Whether a hinge-load column (`<hinge>_F_*`, `<hinge>_M_*`) is among these: then a run
+    /// must add the locked directions' reactions ([`crate::simulate::RunSettings::hinge_loads`]).
+    pub fn has_hinge_loads(&self) -> bool {
+        self.names.iter().any(|n| is_hinge_load(n))
+    }
+
     /// The default columns.
     pub fn default_for(model: &Model) -> Self {
         Self::from_catalogue(catalogue(model), |c| c.default)

@@ -208,7 +208,8 @@ impl Scenario {
                 Ok(())
             };
             let mut progress = crate::interrupt_check(progress);
-            foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, Some(&mut progress))
+            let settings = foldsim::simulate::RunSettings { hinge_loads: selection.has_hinge_loads(), ..s.settings };
+            foldsim::simulate::simulate(&s.model, &s.initial, &settings, &mut sink, Some(&mut progress))
                 .map(|report| (values, report))
         });
         let (values, report) = match result {

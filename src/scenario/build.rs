@@ -186,8 +186,15 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             ));
         }
     };
-    let settings =
-        RunSettings { duration, output_step, integrator, engage_locks_at_start: false, max_steps, release_at };
+    let settings = RunSettings {
+        duration,
+        output_step,
+        integrator,
+        engage_locks_at_start: false,
+        max_steps,
+        release_at,
+        hinge_loads: false,
+    };
 
     // Bodies.
     if raw.bodies.is_empty() {
@@ -456,6 +463,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             .map_err(|m| ctx.span(patterns, format!("run.columns: {m}")))?,
     };
 
+    let settings = RunSettings { hinge_loads: columns.has_hinge_loads(), ..settings };
     Ok(Scenario {
         title: raw.title,
         model,

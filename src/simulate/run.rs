@@ -66,6 +66,8 @@ struct StreamOut<'d, 'm, 's, 'p> {
     deployed_range: (f64, f64),
     /// When the restraint is to let go, s, until it has.
     release_at: Option<f64>,
+    /// Whether rows carry the locks' reactions in the hinge loads (`RunSettings::hinge_loads`).
+    hinge_loads: bool,
     /// When it let go, s.
     released_at: Option<f64>,
 }
@@ -102,10 +104,12 @@ impl StreamOut<'_, '_, '_, '_> {
         let mut o =
             self.observer.observe(self.dynamics.model(), t, y, &self.dynamics.theta_refs(), &self.dynamics.memories());
         // Locked directions carry loads too: their reactions join the law's in the wrench
-        // columns (dynamics/reactions.rs).
-        for r in self.dynamics.lock_reactions(y) {
-            o.hinge_force_in_a0[r.hinge] += r.force_in_a0;
-            o.hinge_torque_in_a[r.hinge] += r.torque_in_a;
+        // columns (dynamics/reactions.rs), when those are asked for.
+        if self.hinge_loads {
+            for r in self.dynamics.lock_reactions(y) {
+                o.hinge_force_in_a0[r.hinge] += r.force_in_a0;
+                o.hinge_torque_in_a[r.hinge] += r.torque_in_a;
+            }
         }
         if let Some(first) = &self.first {
             let d = &mut self.drift;
@@ -478,6 +482,7 @@ pub fn simulate(
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,
+        hinge_loads: settings.hinge_loads,
         released_at: None,
     };
     let limits = settings.limits(model);

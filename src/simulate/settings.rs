@@ -68,6 +68,11 @@ pub struct RunSettings {
     /// 0 < t < duration): every tree hinge is locked where it starts, so the structure turns
     /// as one rigid body; then the restraint lets go.
     pub release_at: Option<f64>,
+    /// Add the reactions of locked directions to the hinge loads of every output row
+    /// (`Observation::hinge_force_in_a0`, `hinge_torque_in_a`): one more evaluation with every
+    /// lock solved for per row, so only when a hinge-load column is written or measured (set
+    /// from [`crate::observe::Selection::has_hinge_loads`]).
+    pub hinge_loads: bool,
 }
 
 /// The most output rows a run writes (`duration / output_step`): ten million rows of even the

@@ -3,10 +3,10 @@
 //! the rows handed on in run order.
 
 use super::metrics::{BUILT_IN, Resolved, Tracker, resolve};
-use super::spec::{Distribution, SweepSpec, read};
+use super::spec::{Distribution, Metric, SweepSpec, read};
 use crate::observe::Observation;
 use crate::scenario::{ScenarioError, ScenarioText, SetValue};
-use crate::simulate::{SimError, simulate};
+use crate::simulate::{RunSettings, SimError, simulate};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution as _, Normal};
@@ -25,6 +25,8 @@ pub struct Sweep {
     metrics: Vec<Resolved>,
     header: Vec<String>,
     inputs: Vec<std::path::PathBuf>,
+    /// Whether a metric reads a hinge-load column (`RunSettings::hinge_loads`).
+    hinge_loads: bool,
 }
 
 /// One run's row of the summary table.
@@ -84,7 +86,11 @@ impl Sweep {
             return Err(fail(format!("[sweep.metrics]: '{dup}' names two columns of the summary; rename the metric")));
         }
         let text = text.without_trailing_table("sweep");
-        Ok(Self { text, spec, metrics, header, inputs: nominal.inputs })
+        let hinge_loads = spec
+            .metrics
+            .iter()
+            .any(|(_, m)| matches!(m, Metric::Column { column, .. } if crate::observe::is_hinge_load(column)));
+        Ok(Self { text, spec, metrics, header, inputs: nominal.inputs, hinge_loads })
     }
 
     /// The files the nominal scenario reads (the scenario file, if it was read from one, and
@@ -186,7 +192,9 @@ impl Sweep {
         };
         let mut progress =
             |_t: f64| if stop.load(Ordering::Relaxed) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
-        match simulate(&s.model, &s.initial, &s.settings, &mut sink, Some(&mut progress)) {
+        // A metric of a hinge-load column needs the locks' reactions in it, as the CSV has.
+        let settings = RunSettings { hinge_loads: self.hinge_loads, ..s.settings };
+        match simulate(&s.model, &s.initial, &settings, &mut sink, Some(&mut progress)) {
             Ok(report) => Ok(tracker.finish(&report)),
             Err(SimError::Interrupted { t }) => Err(format!("interrupted at t = {t} s")),
             Err(e) => Err(e.to_string()),

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from . import _foldsim, generate
+from ._checks import path_arg
 from ._foldsim import Scenario as _Scenario
 from ._foldsim import __version__
 from .sweeps import sweep
@@ -99,7 +100,7 @@ class Scenario:
         default is given: ``s.get("hinge.h1.law.c_theta", 0.0)``."""
         if len(default) > 1:
             raise TypeError(f"get() takes a path and at most one default, not {1 + len(default)} arguments")
-        _path_arg(path, "path")
+        path_arg(path, "path")
         try:
             return self._native.get(path)
         except KeyError:
@@ -115,7 +116,7 @@ class Scenario:
     def save(self, path: str | Path) -> None:
         """Writes the scenario as a TOML file (through ``<path>.partial``, renamed when
         complete; never over a table file the scenario reads)."""
-        path = Path(_path_arg(path, "path"))
+        path = Path(path_arg(path, "path"))
         _foldsim.check_outputs(self._native.inputs, [("save()", str(path))])
         partial = path.with_name(path.name + ".partial")
         partial.write_text(self.text)
@@ -145,13 +146,6 @@ class Scenario:
         return f"<foldsim.Scenario {self.title!r}: {len(self.bodies)} bodies, {len(self.hinges)} hinges>"
 
 
-def _path_arg(value: Any, name: str) -> str:
-    """A str or path-like argument as str; TypeError naming the argument otherwise."""
-    if isinstance(value, (str, os.PathLike)):
-        return os.fspath(value)
-    raise TypeError(f"{name} must be a str or a path, not {type(value).__name__}")
-
-
 def _interactive() -> bool:
     """Whether a person is watching: standard error is a terminal, or this is a notebook."""
     try:
@@ -170,7 +164,9 @@ class _Bar:
 
         self.bar = tqdm(total=total, unit=unit, leave=False, bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} {unit} [{elapsed}<{remaining}]")
 
-    def update_to(self, position: float) -> None:
+    def update_to(self, position: float, **postfix: Any) -> None:
+        if postfix:
+            self.bar.set_postfix(**postfix, refresh=False)
         self.bar.update(position - self.bar.n)
 
     def close(self) -> None:
@@ -192,12 +188,7 @@ class _Lines:
             self.every = float(os.environ.get("FOLDSIM_PROGRESS_EVERY", "30"))
         except ValueError:
             self.every = 30.0
-        self.bar = self  # set_postfix, as tqdm's bar has it
-
-    def set_postfix(self, **_kwargs) -> None:
-        pass
-
-    def update_to(self, position: float) -> None:
+    def update_to(self, position: float, **_postfix: Any) -> None:
         self.n = position
         now = self.clock()
         if now - self.last >= self.every:
@@ -225,7 +216,7 @@ def _progress_bar(total: float, unit: str, progress: bool | None) -> _Bar | _Lin
 
 def load(path: str | Path) -> Scenario:
     """Reads a scenario file (ValueError naming the file, line and key when it is bad)."""
-    return Scenario(_Scenario.load(_path_arg(path, "path")))
+    return Scenario(_Scenario.load(path_arg(path, "path")))
 
 
 def from_toml(text: str, name: str = "scenario", base: str | Path | None = None) -> Scenario:

@@ -4,15 +4,7 @@ and checks): each returns a :class:`foldsim.Scenario`."""
 from __future__ import annotations
 
 from . import _foldsim
-
-
-def _count(value, name: str) -> int:
-    """A whole-number argument: TypeError or ValueError naming it."""
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise TypeError(f"{name} must be a whole number, not {type(value).__name__}")
-    if value < 0:
-        raise ValueError(f"{name} must be a whole number ≥ 1; got {value}")
-    return value
+from ._checks import count
 
 
 def _wrap(native):
@@ -25,12 +17,12 @@ def zfold(panels: int, **options) -> "Scenario":
     """A z-folded chain of `panels` panels off the hub. Options: panel_mass (kg),
     panel_length, panel_width (m), k_translation (N/m), k_bending, k_fold (N·m/rad),
     fold_deg, duration (s), output_step (s), tolerance."""
-    return _wrap(_foldsim.zfold(_count(panels, "panels"), **options))
+    return _wrap(_foldsim.zfold(count(panels, "panels"), **options))
 
 
 def grid(rows: int, cols: int, **options) -> "Scenario":
     """A rows × cols grid of panels hinged to their neighbours; options as :func:`zfold`."""
-    return _wrap(_foldsim.grid(_count(rows, "rows"), _count(cols, "cols"), **options))
+    return _wrap(_foldsim.grid(count(rows, "rows"), count(cols, "cols"), **options))
 
 
 def flasher(gores: int, rings: int, **options) -> tuple["Scenario", str]:
@@ -40,5 +32,5 @@ def flasher(gores: int, rings: int, **options) -> tuple["Scenario", str]:
     "quads", "ring-quads"), k_fold, c_fold, k_panel_bending, c_panel_bending, k_translation,
     c_translation, k_bending, c_rotation, spin_rpm, duration, output_step, tolerance,
     integrator, release_at."""
-    native, report = _foldsim.flasher(_count(gores, "gores"), _count(rings, "rings"), **options)
+    native, report = _foldsim.flasher(count(gores, "gores"), count(rings, "rings"), **options)
     return _wrap(native), report

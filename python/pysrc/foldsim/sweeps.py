@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from . import _foldsim
+from ._checks import count
 
 
 def _native_scenario(scenario):
@@ -98,23 +99,11 @@ class _Progress:
         self.done += len(frame)
         self.failed += int((frame["status"] != "ok").sum())
         if self.bar:
-            self.bar.bar.set_postfix(failed=self.failed, refresh=False)
-            self.bar.update_to(self.done)
+            self.bar.update_to(self.done, failed=self.failed)
 
     def close(self) -> None:
         if self.bar:
             self.bar.close()
-
-
-def _count(value, name: str, minimum: int = 1) -> int | None:
-    """An optional whole-number argument, at least `minimum`; TypeError or ValueError naming it."""
-    if value is None:
-        return None
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise TypeError(f"{name} must be a whole number, not {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be at least {minimum}; got {value}")
-    return value
 
 
 def sweep(
@@ -151,9 +140,9 @@ def sweep(
     A sweep in which every run fails raises RuntimeError with the first run's error (the
     table, if written to `output`, is kept: it says why each run failed).
     """
-    workers = _count(workers, "workers")
-    chunk_size = _count(chunk_size, "chunk_size")
-    runs = _count(runs, "runs")
+    workers = count(workers, "workers")
+    chunk_size = count(chunk_size, "chunk_size")
+    runs = count(runs, "runs")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
         raise ValueError(f"seed must be a whole number >= 0; got {seed!r}")
     native = _native_scenario(scenario)

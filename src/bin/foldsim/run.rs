@@ -59,7 +59,7 @@ pub(crate) fn run(
         outputs.push(("--view", page));
     }
     check_outputs(&scenario.inputs, &outputs)?;
-    let settings = &scenario.settings;
+    let settings = &foldsim::simulate::RunSettings { hinge_loads: columns.has_hinge_loads(), ..scenario.settings };
     let rows = (settings.duration / settings.output_step).floor() + 2.0;
     let bytes = rows * columns.names.len() as f64 * BYTES_PER_FIELD;
     if bytes > LARGE_OUTPUT && !large_output {

@@ -207,8 +207,9 @@ pub fn initial_state(model: &Model, ic: &InitialConditions) -> (State, Vec<Euler
         motions[e.to] = place_motion(h, e.reversed, &from, theta, &init.twist);
     }
     let mut state: State = state_from_motions(model, &motions);
-    // Each hinge's dissipated energy starts at zero (the state's layout, crate::state).
-    state.resize(state.len() + model.hinges.len(), 0.0);
+    // Each hinge's dissipated energy, and contact's, starts at zero (the state's layout,
+    // crate::state).
+    state.resize(state.len() + model.energy_states(), 0.0);
     for (i, h) in model.hinges.iter().enumerate() {
         if !model.is_tree_hinge[i] {
             let dcm_n_a0 = motions[h.parent].dcm_n_b * h.dcm_parent_a0;

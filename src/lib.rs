@@ -19,6 +19,7 @@
 
 #![warn(missing_docs)]
 
+pub mod contact;
 pub mod dynamics;
 pub mod generate;
 pub mod integrate;

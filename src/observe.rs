@@ -1,5 +1,6 @@
 //! The outputs of docs/model.md §5, computed from a state, and their CSV column names.
 
+use crate::contact::ContactSummary;
 use crate::kinematics::hinge_kinematics;
 use crate::law::LawMemory;
 use crate::math::{Euler321, Vec3};
@@ -62,6 +63,11 @@ pub struct Observation {
     pub hinge_energy: f64,
     /// Per hinge: energy dissipated since the start, J (∫ dissipation power dt).
     pub hinge_dissipated: Vec<f64>,
+    /// Contact at this state, when the model has contact: pairs touching, the deepest
+    /// penetration, the largest force, the elastic energy stored.
+    pub contact: Option<ContactSummary>,
+    /// Energy contact has dissipated since the start (damping and friction), J.
+    pub contact_dissipated: f64,
     /// Scale of linear momentum `Σ m_i |Ṙ_i|`, kg·m/s, for relative drift figures.
     pub momentum_scale: f64,
     /// Scale of angular momentum `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)`, kg·m²/s.
@@ -81,12 +87,17 @@ pub struct Observation {
 impl Observation {
     /// Total energy `E = T + V`, J.
     pub fn energy(&self) -> f64 {
-        self.kinetic_energy + self.hinge_energy
+        self.kinetic_energy + self.potential_energy()
     }
 
-    /// Energy dissipated by all hinges since the start, J; `E + D` is constant.
+    /// `V`: the hinges' energy and the energy stored in contacts, J.
+    pub fn potential_energy(&self) -> f64 {
+        self.hinge_energy + self.contact.map_or(0.0, |c| c.energy)
+    }
+
+    /// Energy dissipated by all hinges and contacts since the start, J; `E + D` is constant.
     pub fn dissipated(&self) -> f64 {
-        self.hinge_dissipated.iter().sum()
+        self.hinge_dissipated.iter().sum::<f64>() + self.contact_dissipated
     }
 }
 
@@ -140,6 +151,7 @@ impl Observer {
         y: &[f64],
         theta_refs: &[Euler321],
         memories: &[LawMemory],
+        contact: Option<ContactSummary>,
     ) -> Observation {
         let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
         let hub = &motions[0];
@@ -215,6 +227,8 @@ impl Observer {
             kinetic_energy: kinetic,
             hinge_energy,
             hinge_dissipated,
+            contact,
+            contact_dissipated: if model.contact.is_some() { y.get(d0 + nh).copied().unwrap_or(0.0) } else { 0.0 },
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
             spin_rate: hub.omega_in_n.dot(&self.spin_axis_in_n),
@@ -316,8 +330,15 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     push(&mut c, "H", XYZ, true);
     c.extend(["T", "V", "E", "D"].map(|n| Column { name: n.into(), default: true }));
     c.extend(["spin_rate", "I_spin", "radius", "deployed"].map(|n| Column { name: n.into(), default: true }));
+    if model.contact.is_some() {
+        c.extend(CONTACT_COLUMNS.map(|n| Column { name: n.into(), default: true }));
+    }
     c
 }
+
+/// The contact columns, after the others, when the model has contact: body pairs touching,
+/// deepest penetration (m), largest force between two bodies (N).
+pub const CONTACT_COLUMNS: [&str; 3] = ["contacts", "penetration_max", "contact_force_max"];
 
 /// The values of an observation in the order of [`catalogue`].
 pub fn row(o: &Observation) -> Vec<f64> {
@@ -347,8 +368,11 @@ pub fn row(o: &Observation) -> Vec<f64> {
     v(&mut r, &o.barycenter_in_n);
     v(&mut r, &o.momentum_in_n);
     v(&mut r, &o.angular_momentum_in_n);
-    r.extend_from_slice(&[o.kinetic_energy, o.hinge_energy, o.energy(), o.dissipated()]);
+    r.extend_from_slice(&[o.kinetic_energy, o.potential_energy(), o.energy(), o.dissipated()]);
     r.extend_from_slice(&[o.spin_rate, o.inertia_about_spin_axis, o.deployed_radius, o.deployed_fraction]);
+    if let Some(c) = &o.contact {
+        r.extend_from_slice(&[c.pairs as f64, c.deepest.0, c.force_max]);
+    }
     r
 }
 

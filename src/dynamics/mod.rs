@@ -15,6 +15,7 @@ pub mod momentum;
 pub mod newton;
 pub mod reactions;
 
+use crate::contact::{ContactMemory, ContactPoint, ContactSummary, Frame};
 use crate::kinematics::{HingeKinematics, hinge_kinematics};
 use crate::law::{EventKind, HingeWrench, LawMemory};
 use crate::math::{Euler321, Vec3, quat_rate};
@@ -32,6 +33,10 @@ struct Scratch {
     /// The locks' constraint rows at this state.
     rows: Vec<Row>,
     work: Workspace,
+    /// Contact: the bodies' frames, the points found, the search's work space.
+    frames: Vec<crate::contact::Frame>,
+    contacts: Vec<ContactPoint>,
+    contact_work: crate::contact::Workspace,
 }
 
 /// The equations of motion of a model, with the per-run memory of its hinges: the
@@ -62,6 +67,8 @@ pub struct Dynamics<'m> {
     /// The engaged locks (grouped by hinge in hinge order), and per hinge their range there.
     active: RefCell<(Vec<Lock>, Vec<std::ops::Range<usize>>)>,
     event_offsets: Vec<usize>,
+    /// Contact points in contact at the last accepted state, with their impact speeds.
+    contact_memory: RefCell<ContactMemory>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
     /// Of those, evaluations that solved for engaged locks (had constraint rows).
@@ -113,7 +120,11 @@ impl<'m> Dynamics<'m> {
                 torque_in_n: vec![Vec3::zeros(); nb],
                 rows: Vec::new(),
                 work: Workspace::default(),
+                frames: vec![Frame::default(); nb],
+                contacts: Vec::new(),
+                contact_work: Default::default(),
             }),
+            contact_memory: RefCell::new(ContactMemory::new()),
             evaluations: Cell::new(0),
             constrained_evaluations: Cell::new(0),
         }
@@ -144,9 +155,51 @@ impl<'m> Dynamics<'m> {
         self.memories.borrow()
     }
 
-    /// Length of the state vector: bodies, then one dissipated-energy integral per hinge.
+    /// Length of the state vector: bodies, then one dissipated-energy integral per hinge,
+    /// then contact's (when on).
     pub fn state_len(&self) -> usize {
-        BODY_STATE_LEN * self.model.bodies.len() + self.model.hinges.len()
+        BODY_STATE_LEN * self.model.bodies.len() + self.model.energy_states()
+    }
+
+    /// Index of the energy contact has dissipated in the state vector, if contact is on.
+    pub fn contact_dissipation_index(&self) -> Option<usize> {
+        self.model.contact.as_ref().map(|_| BODY_STATE_LEN * self.model.bodies.len() + self.model.hinges.len())
+    }
+
+    /// The contact memory: points in contact at the last accepted state.
+    pub fn contact_memory(&self) -> std::cell::Ref<'_, ContactMemory> {
+        self.contact_memory.borrow()
+    }
+
+    /// The contact points at state `y` (empty without contact), with the memory of the last
+    /// accepted state.
+    pub fn contact_points(&self, y: &[f64]) -> Vec<ContactPoint> {
+        let Some(set) = &self.model.contact else { return Vec::new() };
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { frames, contact_work, .. } = &mut *scratch;
+        fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
+        let mut out = Vec::new();
+        set.evaluate(frames, &self.contact_memory.borrow(), contact_work, &mut out);
+        out
+    }
+
+    /// What the contacts at state `y` add up to.
+    pub fn contact_summary(&self, y: &[f64]) -> ContactSummary {
+        ContactSummary::of(&self.contact_points(y))
+    }
+
+    /// Brings the contact memory up to the accepted state `y`: a point newly in contact
+    /// keeps its approach speed now as its impact speed; a point out of contact is forgotten.
+    fn accept_contacts(&self, y: &[f64]) {
+        if self.model.contact.is_none() {
+            return;
+        }
+        let points = self.contact_points(y);
+        let mut memory = self.contact_memory.borrow_mut();
+        let old = std::mem::take(&mut *memory);
+        for p in points {
+            memory.insert(p.key, old.get(&p.key).copied().unwrap_or(p.rate));
+        }
     }
 
     /// Index of hinge `h`'s dissipated energy in the state vector.
@@ -224,6 +277,7 @@ impl<'m> Dynamics<'m> {
             h.law.sync_memory(&k.state, &mut memories[i]);
             refs[i] = k.state.theta;
         }
+        self.accept_contacts(y);
         Ok(())
     }
 
@@ -234,7 +288,7 @@ impl<'m> Dynamics<'m> {
         let refs = self.theta_refs.borrow();
         let memories = self.memories.borrow();
         let mut scratch = self.scratch.borrow_mut();
-        let Scratch { motions, force_in_n, torque_in_n, rows, work } = &mut *scratch;
+        let Scratch { motions, force_in_n, torque_in_n, rows, work, frames, contacts, contact_work } = &mut *scratch;
         let active = self.active.borrow();
         let (locks, lock_ranges) = &*active;
         for (i, m) in motions.iter_mut().enumerate() {
@@ -263,6 +317,24 @@ impl<'m> Dynamics<'m> {
             }
         }
 
+        if let Some(set) = &model.contact {
+            // Contact forces act at the sample point on both bodies, equal and opposite
+            // (crate::contact): P and H hold exactly.
+            fill_frames(motions.iter().copied(), frames);
+            contacts.clear();
+            set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts);
+            let mut dissipation = 0.0;
+            for p in contacts.iter() {
+                let (a, b) = (p.key.body as usize, p.key.other as usize);
+                force_in_n[a] += p.force_in_n;
+                torque_in_n[a] += (p.point_in_n - frames[a].position_in_n).cross(&p.force_in_n);
+                force_in_n[b] -= p.force_in_n;
+                torque_in_n[b] -= (p.point_in_n - frames[b].position_in_n).cross(&p.force_in_n);
+                dissipation += p.dissipation;
+            }
+            dydt[diss0 + model.hinges.len()] = dissipation;
+        }
+
         for (i, body) in model.bodies.iter().enumerate() {
             let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
             let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
@@ -284,6 +356,13 @@ impl<'m> Dynamics<'m> {
             // system (redundant locks) is refused when the run starts.
             let _ = constrain_accelerations(model, rows, motions, dydt, work);
         }
+    }
+}
+
+/// Every body's frame for contact from its motion.
+fn fill_frames(motions: impl Iterator<Item = BodyMotion>, frames: &mut [Frame]) {
+    for (f, m) in frames.iter_mut().zip(motions) {
+        *f = Frame { position_in_n: m.r_in_n, dcm_n_b: m.dcm_n_b, velocity_in_n: m.v_in_n, omega_in_n: m.omega_in_n };
     }
 }
 

@@ -182,7 +182,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             exact_count: 0,
             differenced_count: 0,
             nb,
-            n: B * nb + model.hinges.len(),
+            n: B * nb + model.energy_states(),
             jac_x: Vec::new(),
             jac_v: Vec::new(),
             neighbours: Vec::new(),

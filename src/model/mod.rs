@@ -2,6 +2,7 @@
 //! relative initial conditions into body poses (docs/model.md §2).
 
 pub mod body;
+pub mod contact;
 pub mod hinge;
 pub mod mesh;
 pub mod rates;
@@ -40,6 +41,9 @@ pub struct Model {
     pub tree: Vec<TreeEdge>,
     /// For each hinge, whether it is a tree hinge.
     pub is_tree_hinge: Vec<bool>,
+    /// Contact among the bodies with shapes, if the scenario asks for it
+    /// ([`Model::enable_contact`]).
+    pub contact: Option<crate::contact::ContactSet>,
 }
 
 /// What is wrong with a model, and which body or hinge it concerns.
@@ -55,7 +59,7 @@ pub struct ModelError {
 }
 
 impl ModelError {
-    fn body(body: usize, message: String) -> Self {
+    pub(crate) fn body(body: usize, message: String) -> Self {
         Self { message, body: Some(body), hinge: None }
     }
     fn hinge(hinge: usize, message: String) -> Self {
@@ -218,7 +222,7 @@ impl Model {
         for (h, law) in hinges.iter_mut().zip(laws) {
             h.law = law;
         }
-        let mut model = Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree };
+        let mut model = Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree, contact: None };
         // Assemble A0 frames at zero tree coordinates (docs/model.md §2).
         if hinges.iter().any(|h| h.assembled) {
             std::mem::swap(&mut model.hinges, &mut hinges);
@@ -248,6 +252,12 @@ impl Model {
             poses[e.to] = (placed.r_in_n, placed.dcm_n_b);
         }
         poses
+    }
+
+    /// Energy integrals the state carries after the bodies: one per hinge, then one for
+    /// contact when it is on (crate::state).
+    pub fn energy_states(&self) -> usize {
+        self.hinges.len() + usize::from(self.contact.is_some())
     }
 
     /// Total mass, kg.

@@ -29,8 +29,12 @@ pub fn unit_of(column: &str) -> &'static str {
         "rad/s"
     } else if column == "I_spin" {
         "kg·m²"
-    } else if column == "radius" {
+    } else if column == "radius" || column == "penetration_max" {
         "m"
+    } else if column == "contact_force_max" {
+        "N"
+    } else if column == "contacts" {
+        "pairs"
     } else if column == "deployed" {
         "of the design radius"
     } else {

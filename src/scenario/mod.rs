@@ -10,6 +10,7 @@
 
 mod bodies;
 pub mod build;
+mod contact;
 pub mod edit;
 pub mod error;
 mod laws;

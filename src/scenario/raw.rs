@@ -17,6 +17,7 @@ pub(super) struct RawScenario {
     pub(super) hinges: Vec<RawHinge>,
     #[serde(default)]
     pub(super) initial: RawInitial,
+    pub(super) contact: Option<Spanned<RawContact>>,
     /// A sweep's distributions and metrics (read by `crate::sweep`; a run ignores it and
     /// runs the nominal values).
     #[allow(dead_code)]
@@ -36,6 +37,22 @@ pub(super) struct RawRun {
     pub(super) release_at: Option<Spanned<f64>>,
     pub(super) columns: Option<Spanned<Vec<String>>>,
     pub(super) csv: Option<String>,
+}
+
+/// `[contact]`: the contact law and which pairs take part (docs/contact.md).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawContact {
+    pub(super) stiffness: Spanned<f64>,
+    pub(super) exponent: Option<Spanned<f64>>,
+    pub(super) restitution: Spanned<f64>,
+    pub(super) friction: Option<Spanned<f64>>,
+    pub(super) slip_speed: Option<Spanned<f64>>,
+    pub(super) min_impact_speed: Option<Spanned<f64>>,
+    pub(super) margin: Option<Spanned<f64>>,
+    pub(super) spacing: Option<Spanned<f64>>,
+    pub(super) exclude: Option<Spanned<Vec<[Spanned<String>; 2]>>>,
+    pub(super) allow_initial_overlap: Option<bool>,
 }
 
 #[derive(Deserialize)]

@@ -101,8 +101,15 @@ impl OutputTimes {
 
 impl StreamOut<'_, '_, '_, '_> {
     fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
-        let mut o =
-            self.observer.observe(self.dynamics.model(), t, y, &self.dynamics.theta_refs(), &self.dynamics.memories());
+        let contact = self.dynamics.model().contact.as_ref().map(|_| self.dynamics.contact_summary(y));
+        let mut o = self.observer.observe(
+            self.dynamics.model(),
+            t,
+            y,
+            &self.dynamics.theta_refs(),
+            &self.dynamics.memories(),
+            contact,
+        );
         // Locked directions carry loads too: their reactions join the law's in the wrench
         // columns (dynamics/reactions.rs), when those are asked for.
         if self.hinge_loads {

@@ -1,0 +1,266 @@
+//! Contact between bodies (docs/contact.md): geometry ([`solid`]: each body's solid and its
+//! sample points; the pair search in [`ContactSet::evaluate`], parry's bounding-volume
+//! hierarchy as the broad phase) and the compliant law ([`law`]). The dynamics calls
+//! [`ContactSet::evaluate`] with the bodies' poses and applies the forces; nothing here knows
+//! of hinges or of the state vector.
+
+pub mod law;
+pub mod solid;
+
+use crate::math::{Mat3, Vec3};
+use law::ContactLaw;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Vector as PVec;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use solid::Solid;
+use std::collections::{HashMap, HashSet};
+
+/// A body's pose and velocity as contact needs them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Frame {
+    /// Centre of mass, m, N frame.
+    pub position_in_n: Vec3,
+    /// Attitude: body → N.
+    pub dcm_n_b: Mat3,
+    /// Velocity of the centre of mass, m/s, N frame.
+    pub velocity_in_n: Vec3,
+    /// Angular velocity, rad/s, N frame.
+    pub omega_in_n: Vec3,
+}
+
+impl Frame {
+    /// Velocity of the body's material point at `p_in_n` (m, N), m/s, N frame.
+    fn velocity_at(&self, p_in_n: &Vec3) -> Vec3 {
+        self.velocity_in_n + self.omega_in_n.cross(&(p_in_n - self.position_in_n))
+    }
+}
+
+/// Which sample of which body is inside which other body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct PointKey {
+    /// The body whose sample it is.
+    pub body: u32,
+    /// The body whose solid it is in.
+    pub other: u32,
+    /// The sample's index in `body`'s solid.
+    pub sample: u32,
+}
+
+/// One contact point and what the law makes of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint {
+    /// Which sample in which body.
+    pub key: PointKey,
+    /// The sample's centre, where both forces act, m, N frame.
+    pub point_in_n: Vec3,
+    /// The other body's outward surface normal there (pushes `key.body` out), N frame.
+    pub normal_in_n: Vec3,
+    /// Penetration δ, m (> 0).
+    pub depth: f64,
+    /// Its rate δ̇, m/s (> 0 approaching).
+    pub rate: f64,
+    /// Force on `key.body` (the other body gets its opposite at the same point), N, N frame.
+    pub force_in_n: Vec3,
+    /// Elastic energy stored, J.
+    pub energy: f64,
+    /// Power dissipated by damping and friction, W (≥ 0).
+    pub dissipation: f64,
+}
+
+/// Per contact point in contact at the last accepted state: its approach speed when it came
+/// into contact, m/s (the law's v₀).
+pub type ContactMemory = HashMap<PointKey, f64>;
+
+/// Every contact body's geometry, the pairs that may touch, and the law.
+#[derive(Clone, Debug)]
+pub struct ContactSet {
+    /// The law.
+    pub law: ContactLaw,
+    /// Per body (model order): its solid, or `None` for a body that takes part in no contact.
+    pub solids: Vec<Option<Solid>>,
+    /// Body pairs (lower index first) that never touch.
+    excluded: HashSet<(usize, usize)>,
+    /// Per (body, other): which of `body`'s samples are on the crease it shares with `other`
+    /// (excluded against it).
+    crease: HashMap<(usize, usize), Vec<bool>>,
+}
+
+/// Scratch space for [`ContactSet::evaluate`].
+#[derive(Default)]
+pub struct Workspace {
+    aabbs: Vec<Aabb>,
+    bodies: Vec<usize>,
+    pairs: Vec<(usize, usize)>,
+    bvh: BvhWorkspace,
+}
+
+impl std::fmt::Debug for Workspace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Workspace").field("bodies", &self.bodies).finish_non_exhaustive()
+    }
+}
+
+impl ContactSet {
+    /// Contact among `solids` under `law`, no pair excluded.
+    pub fn new(law: ContactLaw, solids: Vec<Option<Solid>>) -> Self {
+        Self { law, solids, excluded: HashSet::new(), crease: HashMap::new() }
+    }
+
+    /// Bodies `a` and `b` never touch.
+    pub fn exclude(&mut self, a: usize, b: usize) {
+        self.excluded.insert((a.min(b), a.max(b)));
+    }
+
+    /// Whether the pair is excluded.
+    pub fn is_excluded(&self, a: usize, b: usize) -> bool {
+        self.excluded.contains(&(a.min(b), a.max(b)))
+    }
+
+    /// Bodies `a` and `b` share a crease: with `b` placed at `b_in_a` (its centre of mass, m,
+    /// and attitude b → a, in `a`'s frame) in the hinge's undeformed state, the samples of
+    /// each that touch the other (within `margin` or 1 µm) are the crease's and never count
+    /// against the other. Returns how many samples that excludes.
+    pub fn mark_crease(&mut self, a: usize, b: usize, b_in_a: (Vec3, Mat3)) -> usize {
+        let (r, c) = b_in_a;
+        let tol = self.law.margin.max(1e-6);
+        let mut count = 0;
+        for (owner, other, to_other) in [(a, b, (r, c)), (b, a, (-(c.transpose() * r), c.transpose()))] {
+            let (Some(so), Some(sb)) = (&self.solids[owner], &self.solids[other]) else { continue };
+            // A sample of `owner` in `other`'s frame: `to_other.1ᵀ (p − to_other.0)`.
+            let marks: Vec<bool> = so
+                .samples
+                .iter()
+                .map(|s| {
+                    let p = to_other.1.transpose() * (s.point_in_body - to_other.0);
+                    sb.signed_distance(&p).0 < s.radius + tol
+                })
+                .collect();
+            count += marks.iter().filter(|m| **m).count();
+            let entry = self.crease.entry((owner, other)).or_insert_with(|| vec![false; marks.len()]);
+            for (e, m) in entry.iter_mut().zip(marks) {
+                *e |= m;
+            }
+        }
+        count
+    }
+
+    /// Every contact point at the poses `frames` (one per body, model order), appended to
+    /// `out`: each body's samples against every other body's solid within the broad phase's
+    /// reach (their bounding boxes, grown by the margin, overlap), the crease samples and
+    /// excluded pairs left out. `memory` gives the points already in contact their impact
+    /// speed; a new point's is its approach speed now.
+    pub fn evaluate(&self, frames: &[Frame], memory: &ContactMemory, ws: &mut Workspace, out: &mut Vec<ContactPoint>) {
+        ws.aabbs.clear();
+        ws.bodies.clear();
+        ws.pairs.clear();
+        let grow = self.law.margin;
+        for (i, s) in self.solids.iter().enumerate() {
+            let Some(s) = s else { continue };
+            let f = &frames[i];
+            let c = f.position_in_n + f.dcm_n_b * s.bound_center_in_body;
+            let h = f.dcm_n_b.abs() * s.bound_half_in_body + Vec3::repeat(grow);
+            ws.aabbs.push(Aabb::new(
+                PVec::new(c.x - h.x, c.y - h.y, c.z - h.z),
+                PVec::new(c.x + h.x, c.y + h.y, c.z + h.z),
+            ));
+            ws.bodies.push(i);
+        }
+        if ws.bodies.len() < 2 {
+            return;
+        }
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &ws.aabbs);
+        let (bodies, pairs) = (&ws.bodies, &mut ws.pairs);
+        bvh.traverse_bvtt_single_tree::<false>(&mut ws.bvh, &mut |i, j| {
+            let (a, b) = (bodies[i as usize], bodies[j as usize]);
+            pairs.push((a.min(b), a.max(b)));
+        });
+        // The hierarchy's order depends on its build; contacts are summed in pair order, so
+        // that the forces' rounding does not depend on it.
+        pairs.sort_unstable();
+        for &(a, b) in pairs.iter() {
+            if self.is_excluded(a, b) {
+                continue;
+            }
+            self.probe(a, b, frames, memory, out);
+            self.probe(b, a, frames, memory, out);
+        }
+    }
+
+    /// `body`'s samples against `other`'s solid.
+    fn probe(&self, body: usize, other: usize, frames: &[Frame], memory: &ContactMemory, out: &mut Vec<ContactPoint>) {
+        let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return };
+        let (fa, fb) = (&frames[body], &frames[other]);
+        let crease = self.crease.get(&(body, other));
+        // A sample's centre in `other`'s frame: dcm_b_a p + r_ab.
+        let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
+        let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
+        for (k, s) in sa.samples.iter().enumerate() {
+            if crease.is_some_and(|c| c[k]) {
+                continue;
+            }
+            let p = dcm_b_a * s.point_in_body + r_ab;
+            // Quick rejection by `other`'s bounding box.
+            let q = (p - sb.bound_center_in_body).abs() - sb.bound_half_in_body;
+            if q.max() > s.radius {
+                continue;
+            }
+            let (d, n_b) = sb.signed_distance(&p);
+            let depth = s.radius - d;
+            if depth <= 0.0 {
+                continue;
+            }
+            let point = fa.position_in_n + fa.dcm_n_b * s.point_in_body;
+            let normal = fb.dcm_n_b * n_b;
+            let v_rel = fa.velocity_at(&point) - fb.velocity_at(&point);
+            let rate = -normal.dot(&v_rel);
+            let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
+            let v0 = memory.get(&key).copied().unwrap_or(rate);
+            let nf = self.law.normal(depth, rate, v0);
+            let slip = v_rel + normal * rate;
+            let friction = self.law.friction_force(nf.normal, &slip);
+            out.push(ContactPoint {
+                key,
+                point_in_n: point,
+                normal_in_n: normal,
+                depth,
+                rate,
+                force_in_n: normal * nf.normal + friction,
+                energy: self.law.energy(depth),
+                dissipation: nf.damping_power - friction.dot(&slip),
+            });
+        }
+    }
+}
+
+/// What the contact points of one state add up to, for the output columns and the report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactSummary {
+    /// Body pairs with at least one point in contact.
+    pub pairs: usize,
+    /// Deepest penetration, m (0 without contact), and its pair (sample's body, other body).
+    pub deepest: (f64, usize, usize),
+    /// Largest total force between two bodies, N.
+    pub force_max: f64,
+    /// Elastic energy stored in every contact, J.
+    pub energy: f64,
+}
+
+impl ContactSummary {
+    /// The summary of `points` (as [`ContactSet::evaluate`] leaves them: grouped by pair).
+    pub fn of(points: &[ContactPoint]) -> Self {
+        let mut s = Self::default();
+        let mut pair_force: HashMap<(u32, u32), Vec3> = HashMap::new();
+        for p in points {
+            s.energy += p.energy;
+            if p.depth > s.deepest.0 {
+                s.deepest = (p.depth, p.key.body as usize, p.key.other as usize);
+            }
+            let (a, b) = (p.key.body.min(p.key.other), p.key.body.max(p.key.other));
+            let sign = if p.key.body == a { 1.0 } else { -1.0 };
+            *pair_force.entry((a, b)).or_insert_with(Vec3::zeros) += p.force_in_n * sign;
+        }
+        s.pairs = pair_force.len();
+        s.force_max = pair_force.values().map(|f| f.norm()).fold(0.0, f64::max);
+        s
+    }
+}

@@ -1,0 +1,399 @@
+//! One body's contact geometry (docs/contact.md §1): its solid, as a signed distance exact
+//! inside the solid, and the sample points with which it probes other solids.
+//!
+//! A contact is a sample point (a sphere of radius ρ about a point fixed in one body) inside
+//! another body's solid: penetration δ = ρ − d, with d the signed distance of the point from
+//! the solid's surface (negative inside). Both are functions of the two bodies' poses alone,
+//! so the contact's elastic energy is a potential: the force along the distance's gradient,
+//! applied at the sample point to both bodies, conserves energy, P and H exactly.
+
+use crate::math::{Mat3, Vec3};
+
+/// A solid in its own frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolidKind {
+    /// A simple polygon (counter-clockwise, x and y in the solid frame, m) extruded
+    /// ±`half_thickness` along z (m): a plate of any outline, convex or not.
+    Prism {
+        /// Vertices, m.
+        polygon: Vec<[f64; 2]>,
+        /// Half the thickness, m (> 0).
+        half_thickness: f64,
+    },
+    /// A box centred on the origin with its edges along the axes.
+    Cuboid {
+        /// Half the edge lengths, m.
+        half: Vec3,
+    },
+    /// A circular cylinder about z, centred on the origin.
+    Cylinder {
+        /// Radius, m.
+        radius: f64,
+        /// Half the height, m.
+        half_height: f64,
+    },
+}
+
+/// A point fixed in a body that probes other bodies' solids, with its radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Centre, m, body frame.
+    pub point_in_body: Vec3,
+    /// Radius ρ, m (0 for a point).
+    pub radius: f64,
+}
+
+/// A body's contact geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solid {
+    /// The solid frame's origin, m, body frame.
+    pub origin_in_body: Vec3,
+    /// Rotation from the body frame to the solid frame: `p_s = dcm_s_b (p_b − origin)`.
+    pub dcm_s_b: Mat3,
+    /// The solid in its frame.
+    pub kind: SolidKind,
+    /// Its sample points.
+    pub samples: Vec<Sample>,
+    /// Centre of a box about the solid and its samples, m, body frame.
+    pub bound_center_in_body: Vec3,
+    /// Half extents of that box (body axes), m.
+    pub bound_half_in_body: Vec3,
+}
+
+/// The most sample points one body may have: beyond it a run would spend its time probing.
+pub const MAX_SAMPLES: usize = 20_000;
+
+impl Solid {
+    /// A plate: `vertices` (m, body frame, one plane, either way round) extruded by
+    /// `thickness` (m, > 0) about their plane. A thin plate (thickness at most half its
+    /// shortest edge) probes with spheres of radius thickness/2 along its outline, inset so
+    /// that they touch its faces and sides, one per thickness of outline; a thick one (a hub
+    /// prism) with points on its top and bottom outlines and side edges, `spacing` m apart.
+    pub fn plate(vertices: &[Vec3], thickness: f64, spacing: f64) -> Result<Self, String> {
+        let n = vertices.len();
+        // Newell's normal and the centroid of the vertices.
+        let mut normal = Vec3::zeros();
+        for i in 0..n {
+            let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+            normal += a.cross(&b);
+        }
+        let origin = vertices.iter().sum::<Vec3>() / n as f64;
+        let z = normal.try_normalize(0.0).ok_or("the polygon has no area")?;
+        let x = (vertices[1] - vertices[0]).try_normalize(0.0).ok_or("two vertices coincide")?;
+        let x = (x - z * z.dot(&x)).normalize();
+        let y = z.cross(&x);
+        let dcm_s_b = Mat3::from_rows(&[x.transpose(), y.transpose(), z.transpose()]);
+        let polygon: Vec<[f64; 2]> = vertices
+            .iter()
+            .map(|v| {
+                let p = dcm_s_b * (v - origin);
+                [p.x, p.y]
+            })
+            .collect();
+        let h = 0.5 * thickness;
+        let shortest = (0..n).map(|i| dist2(polygon[i], polygon[(i + 1) % n])).fold(f64::INFINITY, f64::min);
+        let mut samples = Vec::new();
+        let inset = if thickness <= 0.5 * shortest { inset_polygon(&polygon, h) } else { None };
+        let to_body = |p: [f64; 2], zz: f64| origin + dcm_s_b.transpose() * Vec3::new(p[0], p[1], zz);
+        match inset {
+            Some(inner) => {
+                for i in 0..n {
+                    let (a, b) = (inner[i], inner[(i + 1) % n]);
+                    let k = (dist2(a, b) / thickness).ceil().max(1.0) as usize;
+                    for j in 0..k {
+                        let t = j as f64 / k as f64;
+                        let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                        samples.push(Sample { point_in_body: to_body(p, 0.0), radius: h });
+                    }
+                }
+            }
+            None => {
+                for i in 0..n {
+                    let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+                    for zz in [-h, h] {
+                        let k = (dist2(a, b) / spacing).ceil().max(1.0) as usize;
+                        for j in 0..k {
+                            let t = j as f64 / k as f64;
+                            let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+                            samples.push(Sample { point_in_body: to_body(p, zz), radius: 0.0 });
+                        }
+                    }
+                    let k = (thickness / spacing).ceil() as usize;
+                    for j in 1..k {
+                        let zz = -h + thickness * j as f64 / k as f64;
+                        samples.push(Sample { point_in_body: to_body(a, zz), radius: 0.0 });
+                    }
+                }
+            }
+        }
+        let kind = SolidKind::Prism { polygon, half_thickness: h };
+        Self::finish(origin, dcm_s_b, kind, samples)
+    }
+
+    /// A box of edge lengths `size` (m) centred at `center` (m, body frame), edges along the
+    /// body axes, probing with its 8 corners and points along its edges at most `spacing` m
+    /// apart (each edge in equal parts).
+    pub fn cuboid(size: Vec3, center: Vec3, spacing: f64) -> Result<Self, String> {
+        let half = size * 0.5;
+        let mut samples: Vec<Sample> = (0..8)
+            .map(|c| Sample {
+                point_in_body: center + half.component_mul(&Vec3::new(sign(c & 1), sign(c & 2), sign(c & 4))),
+                radius: 0.0,
+            })
+            .collect();
+        for axis in 0..3 {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let k = (size[axis] / spacing).ceil().max(1.0) as usize;
+            for su in [-1.0, 1.0] {
+                for sv in [-1.0, 1.0] {
+                    for j in 1..k {
+                        let mut p = Vec3::zeros();
+                        p[u] = su * half[u];
+                        p[v] = sv * half[v];
+                        p[axis] = -half[axis] + size[axis] * j as f64 / k as f64;
+                        samples.push(Sample { point_in_body: center + p, radius: 0.0 });
+                    }
+                }
+            }
+        }
+        Self::finish(center, Mat3::identity(), SolidKind::Cuboid { half }, samples)
+    }
+
+    /// A cylinder of `radius` and `height` (m) about the body's z axis, centred on the origin,
+    /// probing with points round its two rims `spacing` m apart (at least 16 per rim).
+    pub fn cylinder(radius: f64, height: f64, spacing: f64) -> Result<Self, String> {
+        let k = ((std::f64::consts::TAU * radius / spacing).ceil() as usize).max(16);
+        let mut samples = Vec::new();
+        for zz in [-0.5 * height, 0.5 * height] {
+            for j in 0..k {
+                let a = std::f64::consts::TAU * j as f64 / k as f64;
+                samples.push(Sample { point_in_body: Vec3::new(radius * a.cos(), radius * a.sin(), zz), radius: 0.0 });
+            }
+        }
+        let kind = SolidKind::Cylinder { radius, half_height: 0.5 * height };
+        Self::finish(Vec3::zeros(), Mat3::identity(), kind, samples)
+    }
+
+    fn finish(origin: Vec3, dcm_s_b: Mat3, kind: SolidKind, samples: Vec<Sample>) -> Result<Self, String> {
+        if samples.len() > MAX_SAMPLES {
+            return Err(format!(
+                "its outline needs {} contact sample points, more than {MAX_SAMPLES}: give a larger contact.spacing",
+                samples.len()
+            ));
+        }
+        // Bounding box of the solid's corners (a cylinder's box) and the samples' spheres.
+        let mut lo = Vec3::repeat(f64::INFINITY);
+        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+        let mut grow = |p: Vec3, r: f64| {
+            lo = lo.inf(&(p - Vec3::repeat(r)));
+            hi = hi.sup(&(p + Vec3::repeat(r)));
+        };
+        let to_body = |p: Vec3| origin + dcm_s_b.transpose() * p;
+        match &kind {
+            SolidKind::Prism { polygon, half_thickness } => {
+                for p in polygon {
+                    for zz in [-half_thickness, *half_thickness] {
+                        grow(to_body(Vec3::new(p[0], p[1], zz)), 0.0);
+                    }
+                }
+            }
+            SolidKind::Cuboid { half } => {
+                for c in 0..8 {
+                    let s = Vec3::new(sign(c & 1), sign(c & 2), sign(c & 4));
+                    grow(to_body(half.component_mul(&s)), 0.0);
+                }
+            }
+            SolidKind::Cylinder { radius, half_height } => {
+                for c in 0..8 {
+                    let s = Vec3::new(sign(c & 1), sign(c & 2), sign(c & 4));
+                    grow(to_body(Vec3::new(*radius, *radius, *half_height).component_mul(&s)), 0.0);
+                }
+            }
+        }
+        for s in &samples {
+            grow(s.point_in_body, s.radius);
+        }
+        Ok(Self {
+            origin_in_body: origin,
+            dcm_s_b,
+            kind,
+            samples,
+            bound_center_in_body: (lo + hi) * 0.5,
+            bound_half_in_body: (hi - lo) * 0.5,
+        })
+    }
+
+    /// Signed distance of `p_in_body` (m, body frame) from the solid's surface, m (negative
+    /// inside, exact there; outside exact for boxes and cylinders and for prisms), and the
+    /// surface's outward unit normal nearest the point, body frame.
+    pub fn signed_distance(&self, p_in_body: &Vec3) -> (f64, Vec3) {
+        let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
+        let (d, n) = match &self.kind {
+            SolidKind::Prism { polygon, half_thickness } => {
+                let (d2, g2) = polygon_distance(polygon, [p.x, p.y]);
+                extrude(d2, g2, p.z, *half_thickness)
+            }
+            SolidKind::Cylinder { radius, half_height } => {
+                let r = p.x.hypot(p.y);
+                let g2 = if r > 0.0 { [p.x / r, p.y / r] } else { [1.0, 0.0] };
+                extrude(r - radius, g2, p.z, *half_height)
+            }
+            SolidKind::Cuboid { half } => {
+                let q = p.abs() - half;
+                let s = Vec3::new(p.x.signum(), p.y.signum(), p.z.signum());
+                let out = q.sup(&Vec3::zeros());
+                let len = out.norm();
+                if len > 0.0 {
+                    (len, (out / len).component_mul(&s))
+                } else {
+                    let k = q.imax();
+                    let mut n = Vec3::zeros();
+                    n[k] = s[k];
+                    (q[k], n)
+                }
+            }
+        };
+        (d, self.dcm_s_b.transpose() * n)
+    }
+}
+
+fn sign(bit: usize) -> f64 {
+    if bit == 0 { -1.0 } else { 1.0 }
+}
+
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// A 2-D signed distance `d2` (gradient `g2`) extruded ±`h` along z: the 3-D signed distance
+/// and its gradient (Quílez's extrusion, exact).
+fn extrude(d2: f64, g2: [f64; 2], z: f64, h: f64) -> (f64, Vec3) {
+    let dz = z.abs() - h;
+    let sz = if z < 0.0 { -1.0 } else { 1.0 };
+    if d2 > 0.0 && dz > 0.0 {
+        let len = d2.hypot(dz);
+        (len, Vec3::new(g2[0] * d2 / len, g2[1] * d2 / len, sz * dz / len))
+    } else if d2 > dz {
+        (d2, Vec3::new(g2[0], g2[1], 0.0))
+    } else {
+        (dz, Vec3::new(0.0, 0.0, sz))
+    }
+}
+
+/// Signed distance of `p` from a simple polygon's boundary (negative inside) and its
+/// outward gradient: the nearest edge point, the side from the crossing-number test.
+pub fn polygon_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> (f64, [f64; 2]) {
+    let n = polygon.len();
+    let mut best = (f64::INFINITY, [0.0, 0.0]);
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+        let (wx, wy) = (p[0] - a[0], p[1] - a[1]);
+        let t = ((wx * ex + wy * ey) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
+        let (dx, dy) = (wx - t * ex, wy - t * ey);
+        let d = dx.hypot(dy);
+        if d < best.0 {
+            // At zero distance, the edge's outward normal (counter-clockwise polygon).
+            let g = if d > 0.0 { [dx / d, dy / d] } else { [ey / ex.hypot(ey), -ex / ex.hypot(ey)] };
+            best = (d, g);
+        }
+        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * ex {
+            inside = !inside;
+        }
+    }
+    if inside { (-best.0, [-best.1[0], -best.1[1]]) } else { best }
+}
+
+/// The polygon (counter-clockwise) with every edge moved inwards by `r`: the vertex where
+/// two moved edges meet. `None` if an edge would turn round (the polygon is too small).
+fn inset_polygon(polygon: &[[f64; 2]], r: f64) -> Option<Vec<[f64; 2]>> {
+    let n = polygon.len();
+    let inward = |i: usize| {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+        let l = ex.hypot(ey);
+        [-ey / l, ex / l]
+    };
+    let mut out = vec![[0.0; 2]; n];
+    for (i, (p, o)) in polygon.iter().zip(&mut out).enumerate() {
+        let prev = (i + n - 1) % n;
+        let (n1, n2) = (inward(prev), inward(i));
+        let m = [n1[0] + n2[0], n1[1] + n2[1]];
+        let c = n1[0] * n2[0] + n1[1] * n2[1];
+        // The bisector, scaled so that both edges move by r: r (n1 + n2) / (1 + n1·n2).
+        if 1.0 + c < 1e-6 {
+            return None;
+        }
+        let s = r / (1.0 + c);
+        *o = [p[0] + s * m[0], p[1] + s * m[1]];
+    }
+    // Every moved edge keeps its direction.
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        let (c, d) = (out[i], out[(i + 1) % n]);
+        if (b[0] - a[0]) * (d[0] - c[0]) + (b[1] - a[1]) * (d[1] - c[1]) <= 0.0 {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The signed distance against brute force: the distance to a dense cloud of surface
+    /// points, signed by an independent inside test, at random points about each solid.
+    #[test]
+    fn signed_distance_against_surface_points() {
+        let l_shape = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(2.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        ];
+        let plate = Solid::plate(&l_shape, 0.3, 0.1).unwrap();
+        let cube = Solid::cuboid(Vec3::new(1.0, 0.5, 0.25), Vec3::new(0.1, 0.2, 0.3), 0.1).unwrap();
+        let cyl = Solid::cylinder(0.5, 0.4, 0.1).unwrap();
+        let mut seed = 12345_u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for (solid, lo, hi) in [
+            (&plate, Vec3::new(-0.5, -0.5, -0.5), Vec3::new(2.5, 2.5, 0.5)),
+            (&cube, Vec3::new(-0.6, -0.3, 0.0), Vec3::new(0.8, 0.7, 0.6)),
+            (&cyl, Vec3::new(-0.7, -0.7, -0.4), Vec3::new(0.7, 0.7, 0.4)),
+        ] {
+            for _ in 0..200 {
+                let p =
+                    Vec3::new(lo.x + (hi.x - lo.x) * rnd(), lo.y + (hi.y - lo.y) * rnd(), lo.z + (hi.z - lo.z) * rnd());
+                let (d, n) = solid.signed_distance(&p);
+                // Moving along the normal by a small step changes the distance by that step
+                // (the gradient of a distance has unit length and points along it).
+                let e = 1e-6;
+                let (d2, _) = solid.signed_distance(&(p + n * e));
+                assert!((d2 - d - e).abs() < 1e-9, "{:?}: gradient at {p:?}: {d} → {d2}", solid.kind);
+                // The foot of the normal is on the surface: distance zero there.
+                let foot = p - n * d;
+                assert!(solid.signed_distance(&foot).0.abs() < 1e-12, "{:?}: foot of {p:?}", solid.kind);
+            }
+        }
+    }
+
+    /// A thin plate's sample spheres touch its faces and sides and stay inside it.
+    #[test]
+    fn thin_plate_samples_fill_the_rim() {
+        let square =
+            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let plate = Solid::plate(&square, 0.02, 0.01).unwrap();
+        assert_eq!(plate.samples.len(), 4 * 49);
+        for s in &plate.samples {
+            let (d, _) = plate.signed_distance(&s.point_in_body);
+            assert!((d + s.radius).abs() < 1e-12, "sample {s:?} at {d}");
+        }
+    }
+}

@@ -166,3 +166,173 @@ fn rebounds_with_the_restitution_asked_for() {
         }
     }
 }
+
+/// An oblique impact that slides throughout: Coulomb's law makes the tangential impulse μ
+/// times the normal one, so the relative tangential velocity drops by μ (1 + e) v_n (both
+/// impulses act on the same reduced mass). To 1e-3 relative: the regularised law is
+/// μ f_n |v_t|/√(v_t² + v_s²), short of μ f_n by (v_s/v_t)²/2 = 1e-7 here, and the cube's
+/// tipping changes the slip of the points a little. E + D constant to 1e-8, P and H to 1e-10.
+#[test]
+fn oblique_impact_takes_mu_times_the_normal_impulse() {
+    let (k, e, mu, v, slide) = (1e7, 0.5, 0.3, 1.0, 2.0);
+    let dmax = (2.5 * M_STAR * v * v / (2.0 * POINTS * k)).powf(0.4);
+    let t_contact = 3.0 * dmax / v;
+    let gap = 0.2 * dmax;
+    let s = impact(
+        v,
+        slide,
+        gap,
+        &format!("stiffness = {k}\nrestitution = {e}\nfriction = {mu}"),
+        gap / v + 3.0 * t_contact,
+        t_contact / 10.0,
+    );
+    let (_, obs, _) = run(&s);
+    let (first, last) = (&obs[0], obs.last().unwrap());
+    assert_eq!(last.contact.unwrap().pairs, 0, "separated at the end");
+    let (before, after) = (relative_velocity(first), relative_velocity(last));
+    let rebound = after.z / v;
+    let dvt = before.x - after.x;
+    let expected = mu * (1.0 + rebound) * v;
+    assert!((dvt / expected - 1.0).abs() < 1e-3, "tangential velocity change {dvt} vs μ(1 + e)v = {expected}");
+    let balance = (last.energy() + last.dissipated() - first.energy()).abs() / first.energy();
+    assert!(balance < 1e-8, "E + D changed by {balance:e}");
+    check_momenta(&obs, 1e-10);
+    println!("oblique: Δv_t {dvt:.6} m/s vs μ(1+e)v_n {expected:.6}; rebound {rebound:.4}; E + D {balance:.1e}");
+}
+
+/// A block pressed onto the slab by a spring (its hinge's z direction, preloaded to N) and
+/// sliding to rest: friction turns its kinetic energy into heat over the distance it slides,
+/// ½ m* v² = μ N d. Starting at the contact's equilibrium depth, no normal vibration takes
+/// energy; the regularisation (v_s = 1 mm/s) lengthens the last millimetres a little, and
+/// the spring's force changes with the tiny penetration: 0.5 % is enough to tell the law
+/// from any other (without friction d would be unbounded; with μ wrong by 1 % it shows).
+#[test]
+fn sliding_block_dissipates_mu_n_distance() {
+    let (k, mu, slide) = (1e7, 0.4, 0.5);
+    let (k_spring, preload) = (1e3, 0.1); // N/m and m: N = 100 N
+    let normal = k_spring * preload;
+    let depth = (normal / (POINTS * k)).powf(1.0 / 1.5);
+    let z = 0.1 + 0.05 - depth;
+    let text = format!(
+        r#"
+[run]
+duration = 2.0
+output_step = 0.01
+integrator = "dop853"
+rtol = 1e-10
+atol = 1e-12
+
+[[body]]
+name = "slab"
+shape = {{ box = [2.0, 2.0, 0.2] }}
+density = 1000.0
+
+[[body]]
+name = "cube"
+shape = {{ box = [0.1, 0.1, 0.1] }}
+density = 1000.0
+
+[[hinge]]
+name = "press"
+parent = "slab"
+child = "cube"
+a0 = {{ position = [0.0, 0.0, {z}] }}
+a = {{ child_com = [0.0, 0.0, 0.0] }}
+law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free", z = {{ k = {k_spring}, rest = {rest} }}, rx = "free", ry = "free", rz = "free" }}
+
+[initial.hinge.press]
+delta_rate = [{slide}, 0.0, 0.0]
+
+[contact]
+stiffness = {k}
+restitution = 0.5
+friction = {mu}
+allow_initial_overlap = true
+"#,
+        rest = -preload
+    );
+    let s = Scenario::from_toml(&text, "slide.toml").unwrap_or_else(|e| panic!("{e}"));
+    let (_, obs, _) = run(&s);
+    let (first, last) = (&obs[0], obs.last().unwrap());
+    let late = &obs[obs.len() / 2..];
+    // Where the cube is on the slab (slab frame): once it stops, the pair turns together
+    // with the angular momentum the cube brought (m v h about the barycenter), which moves
+    // the cube in N but not on the slab.
+    let on_slab = |o: &Observation| {
+        foldsim::math::dcm_from_quat(&o.body_quat[0]).transpose() * (o.body_r_in_n[1] - o.body_r_in_n[0])
+    };
+    let stopped = late.iter().map(|o| (on_slab(o) - on_slab(last)).norm()).fold(0.0, f64::max);
+    assert!(stopped < 1e-6, "still sliding in the last half of the run ({stopped} m)");
+    let d = on_slab(last).x - on_slab(first).x;
+    let kinetic = 0.5 * M_STAR * slide * slide;
+    let predicted = kinetic / (mu * normal);
+    assert!((d / predicted - 1.0).abs() < 5e-3, "slid {d} m, ½m*v²/(μN) = {predicted} m");
+    assert!((last.contact_dissipated / kinetic - 1.0).abs() < 5e-3, "dissipated {} J of {kinetic} J", last.contact_dissipated);
+    let balance = (last.energy() + last.dissipated() - first.energy() - first.dissipated()).abs() / first.energy();
+    assert!(balance < 1e-8, "E + D changed by {balance:e}");
+    check_momenta(&obs, 1e-10);
+    println!("slide: {d:.6} m vs ½m*v²/(μN) {predicted:.6} m; contact dissipated {:.6} J of {kinetic:.6} J", last.contact_dissipated);
+}
+
+/// Bad `[contact]` input is refused, located, saying what would be valid.
+#[test]
+fn bad_contact_input_is_refused() {
+    let base = |contact: &str, gap: f64| {
+        let z = 0.15 + gap;
+        format!(
+            r#"
+[run]
+duration = 0.1
+output_step = 0.01
+integrator = "dop853"
+rtol = 1e-9
+atol = 1e-12
+
+[[body]]
+name = "slab"
+shape = {{ box = [2.0, 2.0, 0.2] }}
+density = 1000.0
+
+[[body]]
+name = "cube"
+shape = {{ box = [0.1, 0.1, 0.1] }}
+density = 1000.0
+
+[[hinge]]
+name = "free"
+parent = "slab"
+child = "cube"
+a0 = {{ position = [0.0, 0.0, {z}] }}
+a = {{ child_com = [0.0, 0.0, 0.0] }}
+law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free", z = "free", rx = "free", ry = "free", rz = "free" }}
+
+[contact]
+{contact}
+"#
+        )
+    };
+    let refused = |text: String, words: &[&str]| {
+        let e = Scenario::from_toml(&text, "bad.toml").expect_err("refused").to_string();
+        for w in words {
+            assert!(e.contains(w), "{w:?} not in: {e}");
+        }
+        assert!(e.contains("bad.toml:"), "located: {e}");
+    };
+    refused(base("stiffness = 1e7\nrestitution = 0.5", -0.002), &["'slab' and 'cube' overlap by 0.002 m at t = 0", "allow_initial_overlap"]);
+    refused(base("stiffness = 1e7\nrestitution = 1.5", 0.01), &["contact.restitution", "[0.01, 1]", "1.5"]);
+    refused(base("stiffness = 1e7\nrestitution = 0.0", 0.01), &["contact.restitution", "grows without bound"]);
+    refused(base("stiffness = -1.0\nrestitution = 0.5", 0.01), &["contact.stiffness", "> 0"]);
+    refused(base("stiffness = 1e7\nrestitution = 0.5\nexponent = 5.0", 0.01), &["contact.exponent", "[1, 3]"]);
+    refused(base("stiffness = 1e7\nrestitution = 0.5\nfriction = -0.1", 0.01), &["contact.friction"]);
+    refused(base("stiffness = 1e7\nrestitution = 0.5\nexclude = [[\"slab\", \"cub\"]]", 0.01), &["no body named 'cub'"]);
+    refused(base("stiffness = 1e7", 0.01), &["restitution"]);
+    refused(base("stiffness = 1e7\nrestitution = 0.5", 0.01).replace("\"dop853\"", "\"sdirk4\""), &["[contact]", "SDIRK4"]);
+    let thin = base("stiffness = 1e7\nrestitution = 0.5", 0.01)
+        .replace("shape = { box = [0.1, 0.1, 0.1] }", "shape = { polygon = [[-0.05, -0.05, 0.0], [0.05, -0.05, 0.0], [0.05, 0.05, 0.0], [-0.05, 0.05, 0.0]] }");
+    refused(thin, &["body 'cube'", "thickness > 0"]);
+    // Allowed, or excluded: the overlapping start runs.
+    for extra in ["allow_initial_overlap = true", "exclude = [[\"cube\", \"slab\"]]"] {
+        let text = base(&format!("stiffness = 1e7\nrestitution = 0.5\n{extra}"), -0.002);
+        Scenario::from_toml(&text, "ok.toml").unwrap_or_else(|e| panic!("{extra}: {e}"));
+    }
+}

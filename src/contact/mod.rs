@@ -116,10 +116,13 @@ impl ContactSet {
         self.excluded.contains(&(a.min(b), a.max(b)))
     }
 
-    /// Bodies `a` and `b` share a crease: with `b` placed at `b_in_a` (its centre of mass, m,
-    /// and attitude b → a, in `a`'s frame) in the hinge's undeformed state, the samples of
-    /// each that touch the other (within `margin` or 1 µm) are the crease's and never count
-    /// against the other. Returns how many samples that excludes.
+    /// Bodies `a` and `b` are joined by a hinge: with `b` placed at `b_in_a` (its centre of
+    /// mass, m, and attitude b → a, in `a`'s frame) in the hinge's undeformed state, the
+    /// samples of each that touch the other (within `margin` or 1 µm) are a crease if they
+    /// lie on one line (two plates side by side along their shared edge), and then never
+    /// count against the other. Samples touching over an area (a block resting on a slab
+    /// with a spring between them) are no crease: they keep their contact. Returns how many
+    /// samples that excludes.
     pub fn mark_crease(&mut self, a: usize, b: usize, b_in_a: (Vec3, Mat3)) -> usize {
         let (r, c) = b_in_a;
         let tol = self.law.margin.max(1e-6);
@@ -135,7 +138,12 @@ impl ContactSet {
                     sb.signed_distance(&p).0 < s.radius + tol
                 })
                 .collect();
-            count += marks.iter().filter(|m| **m).count();
+            let touching: Vec<Vec3> =
+                so.samples.iter().zip(&marks).filter(|(_, m)| **m).map(|(s, _)| s.point_in_body).collect();
+            if !collinear(&touching) {
+                continue;
+            }
+            count += touching.len();
             let entry = self.crease.entry((owner, other)).or_insert_with(|| vec![false; marks.len()]);
             for (e, m) in entry.iter_mut().zip(marks) {
                 *e |= m;
@@ -230,6 +238,18 @@ impl ContactSet {
             });
         }
     }
+}
+
+/// Whether `points` lie on one line, to 1 µm plus 1e-9 of their spread.
+fn collinear(points: &[Vec3]) -> bool {
+    let Some(&a) = points.first() else { return true };
+    let Some(&b) = points.iter().max_by(|p, q| (*p - a).norm().total_cmp(&(*q - a).norm())) else { return true };
+    let Some(dir) = (b - a).try_normalize(0.0) else { return true };
+    let tol = 1e-6 + 1e-9 * (b - a).norm();
+    points.iter().all(|p| {
+        let w = p - a;
+        (w - dir * w.dot(&dir)).norm() <= tol
+    })
 }
 
 /// What the contact points of one state add up to, for the output columns and the report.

@@ -95,7 +95,7 @@ pub(super) fn enable(
                     "[contact]: bodies '{}' and '{}' overlap by {} m at t = 0{more}; move them apart, exclude the pair (contact.exclude), or set contact.allow_initial_overlap = true to let contact push them apart",
                     model.bodies[a].name,
                     model.bodies[b].name,
-                    short(depth)
+                    short(format!("{depth:.3e}").parse().unwrap_or(depth))
                 ),
             ));
         }

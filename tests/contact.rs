@@ -267,11 +267,18 @@ allow_initial_overlap = true
     let kinetic = 0.5 * M_STAR * slide * slide;
     let predicted = kinetic / (mu * normal);
     assert!((d / predicted - 1.0).abs() < 5e-3, "slid {d} m, ½m*v²/(μN) = {predicted} m");
-    assert!((last.contact_dissipated / kinetic - 1.0).abs() < 5e-3, "dissipated {} J of {kinetic} J", last.contact_dissipated);
+    assert!(
+        (last.contact_dissipated / kinetic - 1.0).abs() < 5e-3,
+        "dissipated {} J of {kinetic} J",
+        last.contact_dissipated
+    );
     let balance = (last.energy() + last.dissipated() - first.energy() - first.dissipated()).abs() / first.energy();
     assert!(balance < 1e-8, "E + D changed by {balance:e}");
     check_momenta(&obs, 1e-10);
-    println!("slide: {d:.6} m vs ½m*v²/(μN) {predicted:.6} m; contact dissipated {:.6} J of {kinetic:.6} J", last.contact_dissipated);
+    println!(
+        "slide: {d:.6} m vs ½m*v²/(μN) {predicted:.6} m; contact dissipated {:.6} J of {kinetic:.6} J",
+        last.contact_dissipated
+    );
 }
 
 /// Bad `[contact]` input is refused, located, saying what would be valid.
@@ -318,17 +325,28 @@ law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free
         }
         assert!(e.contains("bad.toml:"), "located: {e}");
     };
-    refused(base("stiffness = 1e7\nrestitution = 0.5", -0.002), &["'slab' and 'cube' overlap by 0.002 m at t = 0", "allow_initial_overlap"]);
+    refused(
+        base("stiffness = 1e7\nrestitution = 0.5", -0.002),
+        &["'slab' and 'cube' overlap by 0.002 m at t = 0", "allow_initial_overlap"],
+    );
     refused(base("stiffness = 1e7\nrestitution = 1.5", 0.01), &["contact.restitution", "[0.01, 1]", "1.5"]);
     refused(base("stiffness = 1e7\nrestitution = 0.0", 0.01), &["contact.restitution", "grows without bound"]);
     refused(base("stiffness = -1.0\nrestitution = 0.5", 0.01), &["contact.stiffness", "> 0"]);
     refused(base("stiffness = 1e7\nrestitution = 0.5\nexponent = 5.0", 0.01), &["contact.exponent", "[1, 3]"]);
     refused(base("stiffness = 1e7\nrestitution = 0.5\nfriction = -0.1", 0.01), &["contact.friction"]);
-    refused(base("stiffness = 1e7\nrestitution = 0.5\nexclude = [[\"slab\", \"cub\"]]", 0.01), &["no body named 'cub'"]);
+    refused(
+        base("stiffness = 1e7\nrestitution = 0.5\nexclude = [[\"slab\", \"cub\"]]", 0.01),
+        &["no body named 'cub'"],
+    );
     refused(base("stiffness = 1e7", 0.01), &["restitution"]);
-    refused(base("stiffness = 1e7\nrestitution = 0.5", 0.01).replace("\"dop853\"", "\"sdirk4\""), &["[contact]", "SDIRK4"]);
-    let thin = base("stiffness = 1e7\nrestitution = 0.5", 0.01)
-        .replace("shape = { box = [0.1, 0.1, 0.1] }", "shape = { polygon = [[-0.05, -0.05, 0.0], [0.05, -0.05, 0.0], [0.05, 0.05, 0.0], [-0.05, 0.05, 0.0]] }");
+    refused(
+        base("stiffness = 1e7\nrestitution = 0.5", 0.01).replace("\"dop853\"", "\"sdirk4\""),
+        &["[contact]", "SDIRK4"],
+    );
+    let thin = base("stiffness = 1e7\nrestitution = 0.5", 0.01).replace(
+        "shape = { box = [0.1, 0.1, 0.1] }",
+        "shape = { polygon = [[-0.05, -0.05, 0.0], [0.05, -0.05, 0.0], [0.05, 0.05, 0.0], [-0.05, 0.05, 0.0]] }",
+    );
     refused(thin, &["body 'cube'", "thickness > 0"]);
     // Allowed, or excluded: the overlapping start runs.
     for extra in ["allow_initial_overlap = true", "exclude = [[\"cube\", \"slab\"]]"] {

@@ -99,7 +99,7 @@ impl Solid {
             Some(inner) => {
                 for i in 0..n {
                     let (a, b) = (inner[i], inner[(i + 1) % n]);
-                    let k = (dist2(a, b) / thickness).ceil().max(1.0) as usize;
+                    let k = parts(dist2(a, b), thickness)?;
                     for j in 0..k {
                         let t = j as f64 / k as f64;
                         let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
@@ -111,14 +111,14 @@ impl Solid {
                 for i in 0..n {
                     let (a, b) = (polygon[i], polygon[(i + 1) % n]);
                     for zz in [-h, h] {
-                        let k = (dist2(a, b) / spacing).ceil().max(1.0) as usize;
+                        let k = parts(dist2(a, b), spacing)?;
                         for j in 0..k {
                             let t = j as f64 / k as f64;
                             let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
                             samples.push(Sample { point_in_body: to_body(p, zz), radius: 0.0 });
                         }
                     }
-                    let k = (thickness / spacing).ceil() as usize;
+                    let k = parts(thickness, spacing)?;
                     for j in 1..k {
                         let zz = -h + thickness * j as f64 / k as f64;
                         samples.push(Sample { point_in_body: to_body(a, zz), radius: 0.0 });
@@ -143,7 +143,7 @@ impl Solid {
             .collect();
         for axis in 0..3 {
             let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            let k = (size[axis] / spacing).ceil().max(1.0) as usize;
+            let k = parts(size[axis], spacing)?;
             for su in [-1.0, 1.0] {
                 for sv in [-1.0, 1.0] {
                     for j in 1..k {
@@ -162,7 +162,7 @@ impl Solid {
     /// A cylinder of `radius` and `height` (m) about the body's z axis, centred on the origin,
     /// probing with points round its two rims `spacing` m apart (at least 16 per rim).
     pub fn cylinder(radius: f64, height: f64, spacing: f64) -> Result<Self, String> {
-        let k = ((std::f64::consts::TAU * radius / spacing).ceil() as usize).max(16);
+        let k = parts(std::f64::consts::TAU * radius, spacing)?.max(16);
         let mut samples = Vec::new();
         for zz in [-0.5 * height, 0.5 * height] {
             for j in 0..k {
@@ -255,6 +255,20 @@ impl Solid {
         };
         (d, self.dcm_s_b.transpose() * n)
     }
+}
+
+/// Parts of at most `spacing` in a length, at least 1; an error past [`MAX_SAMPLES`] (before
+/// anything is allocated).
+fn parts(length: f64, spacing: f64) -> Result<usize, String> {
+    let k = (length / spacing).ceil();
+    if !(k <= MAX_SAMPLES as f64) {
+        return Err(format!(
+            "a {} m edge in parts of {} m needs more than {MAX_SAMPLES} contact sample points: give a larger contact.spacing",
+            crate::math::short(length),
+            crate::math::short(spacing)
+        ));
+    }
+    Ok((k as usize).max(1))
 }
 
 fn sign(bit: usize) -> f64 {

@@ -35,24 +35,26 @@ impl Model {
         spacing: Option<f64>,
         excluded: &[(usize, usize)],
     ) -> Result<usize, ModelError> {
+        for (i, b) in self.bodies.iter().enumerate() {
+            if let Some(Shape::Plate { thickness, .. }) = &b.shape
+                && *thickness <= 0.0
+            {
+                return Err(ModelError::body(
+                    i,
+                    format!(
+                        "body '{}': a plate needs a thickness > 0 m to take part in contact (a solid that others cannot enter); its shape has none",
+                        b.name
+                    ),
+                ));
+            }
+        }
         let shapes: Vec<&Shape> = self.bodies.iter().filter_map(|b| b.shape.as_ref()).collect();
         let spacing = spacing.unwrap_or_else(|| default_spacing(&shapes));
         let mut solids = Vec::with_capacity(self.bodies.len());
         for (i, b) in self.bodies.iter().enumerate() {
             let solid = match &b.shape {
                 None => None,
-                Some(Shape::Plate { vertices, thickness }) => {
-                    if *thickness <= 0.0 {
-                        return Err(ModelError::body(
-                            i,
-                            format!(
-                                "body '{}': a plate needs a thickness > 0 m to take part in contact (a solid that others cannot enter); its shape has none",
-                                b.name
-                            ),
-                        ));
-                    }
-                    Some(Solid::plate(vertices, *thickness, spacing))
-                }
+                Some(Shape::Plate { vertices, thickness }) => Some(Solid::plate(vertices, *thickness, spacing)),
                 Some(Shape::Cuboid { size, center }) => Some(Solid::cuboid(*size, *center, spacing)),
                 Some(Shape::Cylinder { radius, height }) => Some(Solid::cylinder(*radius, *height, spacing)),
             };

@@ -252,6 +252,37 @@ fn collinear(points: &[Vec3]) -> bool {
     })
 }
 
+/// Contact over a run, as seen at its accepted steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactRecord {
+    /// The first accepted state with a point in contact: time (s) and the pair (sample's
+    /// body, other body) of its deepest point.
+    pub first: Option<(f64, usize, usize)>,
+    /// Deepest penetration (m), when (s), and the pair.
+    pub deepest: (f64, f64, usize, usize),
+    /// Largest total force between two bodies (N), when (s), and the pair.
+    pub force_max: (f64, f64, usize, usize),
+}
+
+impl ContactRecord {
+    /// Takes in the accepted state at time `t` (s) with contact points `points`.
+    pub fn record(&mut self, t: f64, points: &[ContactPoint]) {
+        if points.is_empty() {
+            return;
+        }
+        let s = ContactSummary::of(points);
+        if self.first.is_none() {
+            self.first = Some((t, s.deepest.1, s.deepest.2));
+        }
+        if s.deepest.0 > self.deepest.0 {
+            self.deepest = (s.deepest.0, t, s.deepest.1, s.deepest.2);
+        }
+        if s.force_max > self.force_max.0 {
+            self.force_max = (s.force_max, t, s.force_pair.0, s.force_pair.1);
+        }
+    }
+}
+
 /// What the contact points of one state add up to, for the output columns and the report.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactSummary {
@@ -261,6 +292,8 @@ pub struct ContactSummary {
     pub deepest: (f64, usize, usize),
     /// Largest total force between two bodies, N.
     pub force_max: f64,
+    /// The pair it acts between (lower body index first).
+    pub force_pair: (usize, usize),
     /// Elastic energy stored in every contact, J.
     pub energy: f64,
 }
@@ -280,7 +313,13 @@ impl ContactSummary {
             *pair_force.entry((a, b)).or_insert_with(Vec3::zeros) += p.force_in_n * sign;
         }
         s.pairs = pair_force.len();
-        s.force_max = pair_force.values().map(|f| f.norm()).fold(0.0, f64::max);
+        for (&(a, b), f) in &pair_force {
+            let f = f.norm();
+            if f > s.force_max || (f == s.force_max && (a as usize, b as usize) < s.force_pair) {
+                s.force_max = f;
+                s.force_pair = (a as usize, b as usize);
+            }
+        }
         s
     }
 }

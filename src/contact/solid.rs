@@ -261,7 +261,7 @@ impl Solid {
 /// anything is allocated).
 fn parts(length: f64, spacing: f64) -> Result<usize, String> {
     let k = (length / spacing).ceil();
-    if !(k <= MAX_SAMPLES as f64) {
+    if k.is_nan() || k > MAX_SAMPLES as f64 {
         return Err(format!(
             "a {} m edge in parts of {} m needs more than {MAX_SAMPLES} contact sample points: give a larger contact.spacing",
             crate::math::short(length),

@@ -15,7 +15,7 @@ pub mod momentum;
 pub mod newton;
 pub mod reactions;
 
-use crate::contact::{ContactMemory, ContactPoint, ContactSummary, Frame};
+use crate::contact::{ContactMemory, ContactPoint, ContactRecord, ContactSummary, Frame};
 use crate::kinematics::{HingeKinematics, hinge_kinematics};
 use crate::law::{EventKind, HingeWrench, LawMemory};
 use crate::math::{Euler321, Vec3, quat_rate};
@@ -69,6 +69,8 @@ pub struct Dynamics<'m> {
     event_offsets: Vec<usize>,
     /// Contact points in contact at the last accepted state, with their impact speeds.
     contact_memory: RefCell<ContactMemory>,
+    /// Contact over the run so far, at accepted steps.
+    contact_record: RefCell<ContactRecord>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
     /// Of those, evaluations that solved for engaged locks (had constraint rows).
@@ -125,6 +127,7 @@ impl<'m> Dynamics<'m> {
                 contact_work: Default::default(),
             }),
             contact_memory: RefCell::new(ContactMemory::new()),
+            contact_record: RefCell::new(ContactRecord::default()),
             evaluations: Cell::new(0),
             constrained_evaluations: Cell::new(0),
         }
@@ -183,6 +186,11 @@ impl<'m> Dynamics<'m> {
         out
     }
 
+    /// Contact over the run so far (at accepted steps).
+    pub fn contact_record(&self) -> ContactRecord {
+        *self.contact_record.borrow()
+    }
+
     /// What the contacts at state `y` add up to.
     pub fn contact_summary(&self, y: &[f64]) -> ContactSummary {
         ContactSummary::of(&self.contact_points(y))
@@ -190,11 +198,12 @@ impl<'m> Dynamics<'m> {
 
     /// Brings the contact memory up to the accepted state `y`: a point newly in contact
     /// keeps its approach speed now as its impact speed; a point out of contact is forgotten.
-    fn accept_contacts(&self, y: &[f64]) {
+    fn accept_contacts(&self, t: f64, y: &[f64]) {
         if self.model.contact.is_none() {
             return;
         }
         let points = self.contact_points(y);
+        self.contact_record.borrow_mut().record(t, &points);
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {
@@ -277,7 +286,7 @@ impl<'m> Dynamics<'m> {
             h.law.sync_memory(&k.state, &mut memories[i]);
             refs[i] = k.state.theta;
         }
-        self.accept_contacts(y);
+        self.accept_contacts(t, y);
         Ok(())
     }
 

@@ -94,6 +94,10 @@ pub struct RunReport {
     /// no load keeps its value without a constraint force, and is checked after every step;
     /// once it drifts, it engages and the step is retaken with it.
     pub lock_engagements: Vec<(Lock, f64)>,
+    /// Contact over the run (at accepted steps), when the model has contact.
+    pub contact: Option<crate::contact::ContactRecord>,
+    /// Energy contact dissipated over the run (damping and friction), J.
+    pub contact_dissipated: f64,
 }
 
 /// Why a run stopped early.

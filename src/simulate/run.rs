@@ -531,7 +531,10 @@ pub fn simulate(
         rows: out.rows,
         drift: Drift { locks: dynamics.restraint_locks().iter().filter(|r| !**r).count(), ..out.drift },
         released_at: out.released_at,
-        energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy()),
+        energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy())
+            && model.contact.as_ref().is_none_or(|c| c.law.restitution == 1.0 && c.law.friction == 0.0),
+        contact: model.contact.as_ref().map(|_| dynamics.contact_record()),
+        contact_dissipated: out.last.as_ref().map_or(0.0, |o| o.contact_dissipated),
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
         constrained_evaluations: dynamics.constrained_evaluations(),
         lock_engagements: out.lock_engagements,

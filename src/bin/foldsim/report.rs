@@ -91,7 +91,7 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             d.energy_final_change
         );
         outln!(
-            "    dissipated by hinges D  {:.6e} J by the end (damping, hysteresis, stops; for the paper-linear law the work of its non-potential torque)",
+            "    dissipated D            {:.6e} J by the end (hinge damping, hysteresis, stops, contact; for the paper-linear law the work of its non-potential torque)",
             d.dissipated
         );
         outln!(
@@ -99,6 +99,20 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             d.energy_balance,
             rel(d.energy_balance, scale)
         );
+    }
+    if let Some(c) = &r.contact {
+        let name = |i: usize| scenario.model.bodies[i].name.as_str();
+        match c.first {
+            None => outln!("  contact          none: no two bodies touched"),
+            Some((t, a, b)) => {
+                outln!("  contact          first at t = {t:.6} s: {} and {} (at the accepted steps)", name(a), name(b));
+                let (d, td, da, db) = c.deepest;
+                outln!("    deepest penetration  {d:.3e} m at t = {td:.6} s: {} into {}", name(da), name(db));
+                let (f, tf, fa, fb) = c.force_max;
+                outln!("    largest force        {f:.4e} N at t = {tf:.6} s: between {} and {}", name(fa), name(fb));
+                outln!("    dissipated           {:.6e} J (damping and friction)", r.contact_dissipated);
+            }
+        }
     }
     if let Some(t) = r.released_at {
         outln!("  restraint        released at t = {t:.4} s");

@@ -208,7 +208,6 @@ yaw_deg = 90.0
 /// scenario's initial state moved off equilibrium (every term live), with the memory the
 /// initial state gives.
 fn jacobian_mismatch(s: &Scenario) -> f64 {
-    use foldsim::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
     const B: usize = 13;
     let (mut y, refs) = foldsim::kinematics::initial_state(&s.model, &s.initial);
     let nb = s.model.bodies.len();
@@ -217,35 +216,7 @@ fn jacobian_mismatch(s: &Scenario) -> f64 {
     }
     let dynamics = foldsim::dynamics::Dynamics::new(&s.model, refs);
     dynamics.initialize_memory(&y);
-    let mut exact = std::collections::HashMap::new();
-    assert!(dynamics.acceleration_jacobian(&y, &mut |i, j, dx: &PoseBlock, dv: &TwistBlock| {
-        let e = exact.entry((i, j)).or_insert((PoseBlock::zeros(), TwistBlock::zeros()));
-        e.0 += dx;
-        e.1 += dv;
-    }));
-    let n = y.len();
-    let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-    let (mut worst, mut scale) = (0.0f64, 0.0f64);
-    for j in 0..nb {
-        for k in 0..B {
-            let h = 1e-6;
-            let (mut yp, mut ym) = (y.clone(), y.clone());
-            yp[B * j + k] += h;
-            ym[B * j + k] -= h;
-            dynamics.rhs(&yp, &mut fp);
-            dynamics.rhs(&ym, &mut fm);
-            for i in 0..nb {
-                let blocks = exact.get(&(i, j));
-                for r in 0..6 {
-                    let fd = (fp[B * i + 7 + r] - fm[B * i + 7 + r]) / (2.0 * h);
-                    let ex = blocks.map_or(0.0, |(dx, dv)| if k < 7 { dx[(r, k)] } else { dv[(r, k - 7)] });
-                    worst = worst.max((fd - ex).abs());
-                    scale = scale.max(fd.abs());
-                }
-            }
-        }
-    }
-    worst / scale
+    common::jacobian_mismatch_at(&dynamics, &y, 1e-6)
 }
 
 /// The implicit path's exact (dual-number) Jacobian against central differences of the

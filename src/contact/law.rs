@@ -21,6 +21,9 @@
 //! velocity and v_s the slip speed below which the law is viscous (Exudyn's regularised
 //! friction uses a linear zone of the same kind).
 
+use crate::math::{Real, re, real};
+use nalgebra::Vector3;
+
 /// The contact law's parameters (the scenario's `[contact]` table).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactLaw {
@@ -49,14 +52,14 @@ pub struct ContactLaw {
 pub const MIN_RESTITUTION: f64 = 0.01;
 
 /// What one contact point does: its normal force and the energy flows.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PointForce {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointForce<T = f64> {
     /// Normal force magnitude f_n, N (≥ 0).
-    pub normal: f64,
+    pub normal: T,
     /// Its elastic part K δ^n, N.
-    pub elastic: f64,
+    pub elastic: T,
     /// Power dissipated by the damping, W (≥ 0): (f_n − K δⁿ) δ̇.
-    pub damping_power: f64,
+    pub damping_power: T,
 }
 
 impl ContactLaw {
@@ -75,11 +78,13 @@ impl ContactLaw {
     }
 
     /// Normal force at penetration `depth` (m, > 0) closing at `rate` (m/s, > 0 approaching)
-    /// for a point that came into contact at `impact_speed` (m/s).
-    pub fn normal(&self, depth: f64, rate: f64, impact_speed: f64) -> PointForce {
-        let elastic = self.stiffness * depth.powf(self.exponent);
+    /// for a point that came into contact at `impact_speed` (m/s). Generic over the scalar
+    /// (the exact Jacobian runs it in dual numbers; the clamp is chosen on the real part).
+    pub fn normal<T: Real>(&self, depth: T, rate: T, impact_speed: f64) -> PointForce<T> {
+        let elastic = depth.powf(real(self.exponent)) * real(self.stiffness);
         let v0 = impact_speed.max(self.min_impact_speed);
-        let normal = (elastic * (1.0 + self.chi * rate / v0)).max(0.0);
+        let factor = real::<T>(1.0) + rate * real(self.chi / v0);
+        let normal = if re(factor) > 0.0 { elastic * factor } else { real(0.0) };
         PointForce { normal, elastic, damping_power: (normal - elastic) * rate }
     }
 
@@ -90,9 +95,9 @@ impl ContactLaw {
 
     /// Friction force on the sliding body for slip velocity `slip` (m/s, tangential) under
     /// normal force `normal` (N): `−μ f_n v_t / √(|v_t|² + v_s²)`.
-    pub fn friction_force(&self, normal: f64, slip: &crate::math::Vec3) -> crate::math::Vec3 {
-        let s = slip.norm_squared() + self.slip_speed * self.slip_speed;
-        slip * (-self.friction * normal / s.sqrt())
+    pub fn friction_force<T: Real>(&self, normal: T, slip: &Vector3<T>) -> Vector3<T> {
+        let s = slip.norm_squared() + real(self.slip_speed * self.slip_speed);
+        slip * (-normal * real(self.friction) / s.sqrt())
     }
 }
 

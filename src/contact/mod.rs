@@ -7,32 +7,62 @@
 pub mod law;
 pub mod solid;
 
-use crate::math::{Mat3, Vec3};
+use crate::math::{Mat3, Real, Vec3, re, real};
 use law::ContactLaw;
+use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as PVec;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
-use solid::Solid;
+use solid::{Sample, Solid};
 use std::collections::{HashMap, HashSet};
 
-/// A body's pose and velocity as contact needs them.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Frame {
+/// A body's pose and velocity as contact needs them (generic over the scalar for the exact
+/// Jacobian; f64 otherwise).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame<T: nalgebra::Scalar = f64> {
     /// Centre of mass, m, N frame.
-    pub position_in_n: Vec3,
+    pub position_in_n: Vector3<T>,
     /// Attitude: body → N.
-    pub dcm_n_b: Mat3,
+    pub dcm_n_b: Matrix3<T>,
     /// Velocity of the centre of mass, m/s, N frame.
-    pub velocity_in_n: Vec3,
+    pub velocity_in_n: Vector3<T>,
     /// Angular velocity, rad/s, N frame.
-    pub omega_in_n: Vec3,
+    pub omega_in_n: Vector3<T>,
 }
 
-impl Frame {
+impl Default for Frame {
+    fn default() -> Self {
+        Self {
+            position_in_n: Vec3::zeros(),
+            dcm_n_b: Mat3::identity(),
+            velocity_in_n: Vec3::zeros(),
+            omega_in_n: Vec3::zeros(),
+        }
+    }
+}
+
+impl<T: Real> Frame<T> {
     /// Velocity of the body's material point at `p_in_n` (m, N), m/s, N frame.
-    fn velocity_at(&self, p_in_n: &Vec3) -> Vec3 {
+    fn velocity_at(&self, p_in_n: &Vector3<T>) -> Vector3<T> {
         self.velocity_in_n + self.omega_in_n.cross(&(p_in_n - self.position_in_n))
     }
+}
+
+/// One sample's contact, in any scalar: where the forces act and what they are.
+#[derive(Clone, Copy, Debug)]
+pub struct PointForce<T: nalgebra::Scalar> {
+    /// The sample's centre, m, N frame.
+    pub point_in_n: Vector3<T>,
+    /// The other body's outward normal there, N frame.
+    pub normal_in_n: Vector3<T>,
+    /// Penetration, m.
+    pub depth: T,
+    /// Its rate, m/s (> 0 approaching).
+    pub rate: T,
+    /// Force on the sample's body, N, N frame.
+    pub force_in_n: Vector3<T>,
+    /// Power dissipated by damping and friction, W.
+    pub dissipation: T,
 }
 
 /// Which sample of which body is inside which other body.
@@ -212,31 +242,60 @@ impl ContactSet {
             if q.max() > s.radius {
                 continue;
             }
-            let (d, n_b) = sb.signed_distance(&p);
-            let depth = s.radius - d;
-            if depth <= 0.0 {
-                continue;
-            }
-            let point = fa.position_in_n + fa.dcm_n_b * s.point_in_body;
-            let normal = fb.dcm_n_b * n_b;
-            let v_rel = fa.velocity_at(&point) - fb.velocity_at(&point);
-            let rate = -normal.dot(&v_rel);
             let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-            let v0 = memory.get(&key).copied().unwrap_or(rate);
-            let nf = self.law.normal(depth, rate, v0);
-            let slip = v_rel + normal * rate;
-            let friction = self.law.friction_force(nf.normal, &slip);
+            let Some(f) = self.point_force(s, sb, fa, fb, memory.get(&key).copied()) else { continue };
             out.push(ContactPoint {
                 key,
-                point_in_n: point,
-                normal_in_n: normal,
-                depth,
-                rate,
-                force_in_n: normal * nf.normal + friction,
-                energy: self.law.energy(depth),
-                dissipation: nf.damping_power - friction.dot(&slip),
+                point_in_n: f.point_in_n,
+                normal_in_n: f.normal_in_n,
+                depth: f.depth,
+                rate: f.rate,
+                force_in_n: f.force_in_n,
+                energy: self.law.energy(f.depth),
+                dissipation: f.dissipation,
             });
         }
+    }
+
+    /// The contact of `sample` (of the body at `fa`) in `solid` (of the body at `fb`), if it
+    /// penetrates: the law at the sample's centre, for a point that came into contact at
+    /// `impact_speed` (m/s; `None`: its approach speed now). Generic over the scalar: the
+    /// exact Jacobian differentiates this same code (with the impact speed held).
+    pub fn point_force<T: Real>(
+        &self,
+        sample: &Sample,
+        solid: &Solid,
+        fa: &Frame<T>,
+        fb: &Frame<T>,
+        impact_speed: Option<f64>,
+    ) -> Option<PointForce<T>> {
+        let point = fa.position_in_n + fa.dcm_n_b * sample.point_in_body.map(real::<T>);
+        let (d, n_b) = solid.signed_distance(&(fb.dcm_n_b.transpose() * (point - fb.position_in_n)));
+        let depth = real::<T>(sample.radius) - d;
+        if re(depth) <= 0.0 {
+            return None;
+        }
+        let normal = fb.dcm_n_b * n_b;
+        let v_rel = fa.velocity_at(&point) - fb.velocity_at(&point);
+        let rate = -normal.dot(&v_rel);
+        let nf = self.law.normal(depth, rate, impact_speed.unwrap_or(re(rate)));
+        let slip = v_rel + normal * rate;
+        let friction = self.law.friction_force(nf.normal, &slip);
+        Some(PointForce {
+            point_in_n: point,
+            normal_in_n: normal,
+            depth,
+            rate,
+            force_in_n: normal * nf.normal + friction,
+            dissipation: nf.damping_power - friction.dot(&slip),
+        })
+    }
+
+    /// The sample `key` names and the solid it probes.
+    pub fn sample_and_solid(&self, key: &PointKey) -> Option<(&Sample, &Solid)> {
+        let sa = self.solids[key.body as usize].as_ref()?;
+        let sb = self.solids[key.other as usize].as_ref()?;
+        Some((sa.samples.get(key.sample as usize)?, sb))
     }
 }
 

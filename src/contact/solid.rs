@@ -7,7 +7,8 @@
 //! so the contact's elastic energy is a potential: the force along the distance's gradient,
 //! applied at the sample point to both bodies, conserves energy, P and H exactly.
 
-use crate::math::{Mat3, Vec3};
+use crate::math::{Mat3, Real, Vec3, lift, re, real};
+use nalgebra::{Matrix3, Vector3};
 
 /// A solid in its own frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -224,10 +225,12 @@ impl Solid {
     }
 
     /// Signed distance of `p_in_body` (m, body frame) from the solid's surface, m (negative
-    /// inside, exact there; outside exact for boxes and cylinders and for prisms), and the
-    /// surface's outward unit normal nearest the point, body frame.
-    pub fn signed_distance(&self, p_in_body: &Vec3) -> (f64, Vec3) {
-        let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
+    /// inside; exact inside and out), and the surface's outward unit normal nearest the
+    /// point, body frame. Generic over the scalar: the exact Jacobian runs it in dual
+    /// numbers (the branches are chosen on the real parts).
+    pub fn signed_distance<T: Real>(&self, p_in_body: &Vector3<T>) -> (T, Vector3<T>) {
+        let dcm: Matrix3<T> = lift(&self.dcm_s_b);
+        let p = dcm * (p_in_body - self.origin_in_body.map(real::<T>));
         let (d, n) = match &self.kind {
             SolidKind::Prism { polygon, half_thickness } => {
                 let (d2, g2) = polygon_distance(polygon, [p.x, p.y]);
@@ -235,25 +238,25 @@ impl Solid {
             }
             SolidKind::Cylinder { radius, half_height } => {
                 let r = p.x.hypot(p.y);
-                let g2 = if r > 0.0 { [p.x / r, p.y / r] } else { [1.0, 0.0] };
-                extrude(r - radius, g2, p.z, *half_height)
+                let g2 = if re(r) > 0.0 { [p.x / r, p.y / r] } else { [real(1.0), real(0.0)] };
+                extrude(r - real(*radius), g2, p.z, *half_height)
             }
             SolidKind::Cuboid { half } => {
-                let q = p.abs() - half;
-                let s = Vec3::new(p.x.signum(), p.y.signum(), p.z.signum());
-                let out = q.sup(&Vec3::zeros());
+                let q = Vector3::from_fn(|k, _| p[k].abs() - real(half[k]));
+                let s = Vector3::from_fn(|k, _| if re(p[k]) < 0.0 { real::<T>(-1.0) } else { real(1.0) });
+                let out = Vector3::from_fn(|k, _| if re(q[k]) > 0.0 { q[k] } else { real(0.0) });
                 let len = out.norm();
-                if len > 0.0 {
+                if re(len) > 0.0 {
                     (len, (out / len).component_mul(&s))
                 } else {
-                    let k = q.imax();
-                    let mut n = Vec3::zeros();
+                    let k = (0..3).max_by(|&a, &b| re(q[a]).total_cmp(&re(q[b]))).unwrap_or(0);
+                    let mut n = Vector3::zeros();
                     n[k] = s[k];
                     (q[k], n)
                 }
             }
         };
-        (d, self.dcm_s_b.transpose() * n)
+        (d, dcm.transpose() * n)
     }
 }
 
@@ -281,42 +284,57 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// A 2-D signed distance `d2` (gradient `g2`) extruded ±`h` along z: the 3-D signed distance
 /// and its gradient (Quílez's extrusion, exact).
-fn extrude(d2: f64, g2: [f64; 2], z: f64, h: f64) -> (f64, Vec3) {
-    let dz = z.abs() - h;
-    let sz = if z < 0.0 { -1.0 } else { 1.0 };
-    if d2 > 0.0 && dz > 0.0 {
+fn extrude<T: Real>(d2: T, g2: [T; 2], z: T, h: f64) -> (T, Vector3<T>) {
+    let dz = z.abs() - real(h);
+    let sz: T = if re(z) < 0.0 { real(-1.0) } else { real(1.0) };
+    let zero = real::<T>(0.0);
+    if re(d2) > 0.0 && re(dz) > 0.0 {
         let len = d2.hypot(dz);
-        (len, Vec3::new(g2[0] * d2 / len, g2[1] * d2 / len, sz * dz / len))
-    } else if d2 > dz {
-        (d2, Vec3::new(g2[0], g2[1], 0.0))
+        (len, Vector3::new(g2[0] * d2 / len, g2[1] * d2 / len, sz * dz / len))
+    } else if re(d2) > re(dz) {
+        (d2, Vector3::new(g2[0], g2[1], zero))
     } else {
-        (dz, Vec3::new(0.0, 0.0, sz))
+        (dz, Vector3::new(zero, zero, sz))
     }
 }
 
 /// Signed distance of `p` from a simple polygon's boundary (negative inside) and its
-/// outward gradient: the nearest edge point, the side from the crossing-number test.
-pub fn polygon_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> (f64, [f64; 2]) {
+/// outward gradient: the nearest edge point, the side from the crossing-number test (both
+/// chosen on the real parts).
+pub fn polygon_distance<T: Real>(polygon: &[[f64; 2]], p: [T; 2]) -> (T, [T; 2]) {
     let n = polygon.len();
-    let mut best = (f64::INFINITY, [0.0, 0.0]);
+    let (px, py) = (re(p[0]), re(p[1]));
+    let mut best: Option<(f64, usize, f64)> = None;
     let mut inside = false;
     for i in 0..n {
         let (a, b) = (polygon[i], polygon[(i + 1) % n]);
         let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
-        let (wx, wy) = (p[0] - a[0], p[1] - a[1]);
+        let (wx, wy) = (px - a[0], py - a[1]);
         let t = ((wx * ex + wy * ey) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
-        let (dx, dy) = (wx - t * ex, wy - t * ey);
-        let d = dx.hypot(dy);
-        if d < best.0 {
-            // At zero distance, the edge's outward normal (counter-clockwise polygon).
-            let g = if d > 0.0 { [dx / d, dy / d] } else { [ey / ex.hypot(ey), -ex / ex.hypot(ey)] };
-            best = (d, g);
+        let d = (wx - t * ex).hypot(wy - t * ey);
+        if best.is_none_or(|b| d < b.0) {
+            best = Some((d, i, t));
         }
-        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * ex {
+        if (a[1] > py) != (b[1] > py) && px < a[0] + (py - a[1]) / (b[1] - a[1]) * ex {
             inside = !inside;
         }
     }
-    if inside { (-best.0, [-best.1[0], -best.1[1]]) } else { best }
+    let Some((d, i, t)) = best else { return (real(f64::INFINITY), [real(0.0), real(0.0)]) };
+    let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+    let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+    let (wx, wy) = (p[0] - real(a[0]), p[1] - real(a[1]));
+    // The nearest point: inside the edge it moves with p (projection), at a vertex it stays.
+    let tt: T = if t > 0.0 && t < 1.0 { (wx * real(ex) + wy * real(ey)) / real(ex * ex + ey * ey) } else { real(t) };
+    let (dx, dy) = (wx - tt * real(ex), wy - tt * real(ey));
+    let (dist, g) = if d > 0.0 {
+        let dd = dx.hypot(dy);
+        (dd, [dx / dd, dy / dd])
+    } else {
+        // On the boundary: the edge's outward normal (counter-clockwise polygon).
+        let l = ex.hypot(ey);
+        (real(0.0), [real(ey / l), real(-ex / l)])
+    };
+    if inside { (-dist, [-g[0], -g[1]]) } else { (dist, g) }
 }
 
 /// The polygon (counter-clockwise) with every edge moved inwards by `r`: the vertex where

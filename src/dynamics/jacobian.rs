@@ -18,6 +18,7 @@
 
 use super::Dynamics;
 use super::locks::{Lock, hinge_rows};
+use crate::contact::Frame;
 use crate::kinematics::hinge_kinematics;
 use crate::law::JacobianDual as D;
 use crate::math::{lift, re, real};
@@ -45,6 +46,12 @@ pub trait ExactJacobian {
     /// The hinges with locked directions, as (parent body, child body, number of locked
     /// directions), in hinge order. Empty when nothing is locked.
     fn locked_hinges(&self) -> Vec<(usize, usize, usize)> {
+        Vec::new()
+    }
+
+    /// Body pairs whose accelerations are coupled at `y` besides the hinges' (bodies in
+    /// contact): the Newton matrix makes room for their blocks before asking for them.
+    fn coupled_pairs(&self, _y: &[f64]) -> Vec<(usize, usize)> {
         Vec::new()
     }
 
@@ -144,6 +151,39 @@ impl ExactJacobian for Dynamics<'_> {
                 hinge_blocks.push((b, h.child, cx, cv));
             }
         }
+        // Contact points: the same code as the right-hand side's, in dual numbers, each
+        // point's impact speed held (crate::contact::ContactSet::point_force).
+        if let Some(set) = &model.contact {
+            let memory = self.contact_memory();
+            for p in self.contact_points(y) {
+                let (a, b) = (p.key.body as usize, p.key.other as usize);
+                let Some((sample, solid)) = set.sample_and_solid(&p.key) else { continue };
+                let ma = BodyMotion::<D>::from_body_state(&seeded(body(a), 0));
+                let mb = BodyMotion::<D>::from_body_state(&seeded(body(b), B));
+                let frame = |m: &BodyMotion<D>| Frame {
+                    position_in_n: m.r_in_n,
+                    dcm_n_b: m.dcm_n_b,
+                    velocity_in_n: m.v_in_n,
+                    omega_in_n: m.omega_in_n,
+                };
+                let Some(f) = set.point_force(sample, solid, &frame(&ma), &frame(&mb), memory.get(&p.key).copied())
+                else {
+                    continue;
+                };
+                let on_a = (f.force_in_n, (f.point_in_n - ma.r_in_n).cross(&f.force_in_n));
+                let on_b = (-f.force_in_n, -(f.point_in_n - mb.r_in_n).cross(&f.force_in_n));
+                for (body_index, (force, torque)) in [(a, on_a), (b, on_b)] {
+                    torque_in_n[body_index] += torque.map(re);
+                    let bd = &model.bodies[body_index];
+                    let accel = force / real::<D>(bd.mass);
+                    let alpha = lift::<D>(&(bd.inertia_inv_in_body * motions[body_index].dcm_n_b.transpose())) * torque;
+                    let rows = [accel.x, accel.y, accel.z, alpha.x, alpha.y, alpha.z];
+                    let [(ax, av), (bx, bv)] = split(&rows);
+                    hinge_blocks.push((body_index, a, ax, av));
+                    hinge_blocks.push((body_index, b, bx, bv));
+                }
+            }
+        }
         for (i, j, dx, dv) in &hinge_blocks {
             add(*i, *j, dx, dv);
         }
@@ -161,6 +201,20 @@ impl ExactJacobian for Dynamics<'_> {
             add(i, i, &dx, &dv);
         }
         true
+    }
+
+    fn coupled_pairs(&self, y: &[f64]) -> Vec<(usize, usize)> {
+        let mut pairs: Vec<(usize, usize)> = self
+            .contact_points(y)
+            .iter()
+            .map(|p| {
+                let (a, b) = (p.key.body as usize, p.key.other as usize);
+                (a.min(b), a.max(b))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
     }
 
     fn locked_hinges(&self) -> Vec<(usize, usize, usize)> {

@@ -241,6 +241,32 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         (self.order, self.position) = self.with_locks.clone();
     }
 
+    /// Makes room in the structure for blocks between the bodies of `pairs` (contact): the
+    /// pairs not yet neighbours join the graph for the rest of the run, and the elimination
+    /// orders (with and without the locks' rows) are found again.
+    fn add_pairs(&mut self, pairs: &[(usize, usize)]) {
+        let new: Vec<(usize, usize)> =
+            pairs.iter().copied().filter(|&(a, b)| self.neighbours[a].binary_search(&b).is_err()).collect();
+        if new.is_empty() {
+            return;
+        }
+        self.edges.extend(new);
+        let groups = std::mem::take(&mut self.groups);
+        let edges = std::mem::take(&mut self.edges);
+        self.set_structure(&edges);
+        self.edges = edges;
+        self.without_locks = (self.order.clone(), self.position.clone());
+        // The next Jacobian with locks carried finds their order again.
+        self.carried.clear();
+        self.groups = groups;
+        if !self.groups.is_empty() {
+            let carried = std::mem::take(&mut self.groups);
+            self.carry_locks(carried);
+        }
+        self.jac_x.iter_mut().flatten().for_each(|b| *b = PoseBlock::zeros());
+        self.jac_v.iter_mut().flatten().for_each(|b| *b = Block::zeros());
+    }
+
     /// The body pairs a differenced Jacobian couples: the hinges, and every pair in a cluster
     /// of bodies joined by locked hinges.
     fn differenced_coupling(model: &Model, edges: Vec<(usize, usize)>) -> Vec<(usize, usize)> {
@@ -351,6 +377,10 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
                 x.iter_mut().for_each(|b| *b = PoseBlock::zeros());
                 v.iter_mut().for_each(|b| *b = Block::zeros());
             }
+            // Bodies in contact couple like bodies sharing a hinge: room for their blocks.
+            // The structure only grows, so the elimination order changes only when a new
+            // pair first touches.
+            self.add_pairs(&source.coupled_pairs(y));
             let (neighbours, jac_x, jac_v) = (&self.neighbours, &mut self.jac_x, &mut self.jac_v);
             let mut add = |i: usize, j: usize, dx: &PoseBlock, dv: &Block| {
                 let slot = neighbours[i].binary_search(&j).expect("blocks only between neighbours");

@@ -427,12 +427,6 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
 
     let mut model = model;
     if let Some(c) = &raw.contact {
-        if matches!(settings.integrator, Integrator::Sdirk4 { .. }) {
-            return Err(ctx.span(
-                &run.integrator,
-                "[contact] runs with integrator \"dop853\", \"dopri5\" or \"rk4\" for now: SDIRK4's Newton matrix does not yet carry the contact forces' Jacobian",
-            ));
-        }
         super::contact::enable(ctx, c, &mut model, &ic)?;
     }
 

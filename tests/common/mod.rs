@@ -118,3 +118,39 @@ pub fn example_variant(file: &str, replace: &[(&[&str], &str)]) -> Scenario {
         .join("\n");
     Scenario::from_toml_in(&text, file, &dir).unwrap_or_else(|e| panic!("{e}"))
 }
+
+/// Largest difference between the dual-number Jacobian of the accelerations at `y` and
+/// central differences of the right-hand side (step `h`), relative to the largest entry.
+pub fn jacobian_mismatch_at(dynamics: &foldsim::dynamics::Dynamics, y: &[f64], h: f64) -> f64 {
+    use foldsim::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
+    const B: usize = 13;
+    let nb = dynamics.model().bodies.len();
+    let mut exact = std::collections::HashMap::new();
+    assert!(dynamics.acceleration_jacobian(y, &mut |i, j, dx: &PoseBlock, dv: &TwistBlock| {
+        let e = exact.entry((i, j)).or_insert((PoseBlock::zeros(), TwistBlock::zeros()));
+        e.0 += dx;
+        e.1 += dv;
+    }));
+    let n = y.len();
+    let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for j in 0..nb {
+        for k in 0..B {
+            let (mut yp, mut ym) = (y.to_vec(), y.to_vec());
+            yp[B * j + k] += h;
+            ym[B * j + k] -= h;
+            dynamics.rhs(&yp, &mut fp);
+            dynamics.rhs(&ym, &mut fm);
+            for i in 0..nb {
+                let blocks = exact.get(&(i, j));
+                for r in 0..6 {
+                    let fd = (fp[B * i + 7 + r] - fm[B * i + 7 + r]) / (2.0 * h);
+                    let ex = blocks.map_or(0.0, |(dx, dv)| if k < 7 { dx[(r, k)] } else { dv[(r, k - 7)] });
+                    worst = worst.max((fd - ex).abs());
+                    scale = scale.max(fd.abs());
+                }
+            }
+        }
+    }
+    worst / scale
+}

@@ -68,6 +68,9 @@ pub struct Observation {
     pub contact: Option<ContactSummary>,
     /// Energy contact has dissipated since the start (damping and friction), J.
     pub contact_dissipated: f64,
+    /// Per body, with contact: whether it touched another body since the previous row (at
+    /// the integrator's accepted steps, or at this row). Empty without contact.
+    pub touched: Vec<bool>,
     /// Scale of linear momentum `Σ m_i |Ṙ_i|`, kg·m/s, for relative drift figures.
     pub momentum_scale: f64,
     /// Scale of angular momentum `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)`, kg·m²/s.
@@ -229,6 +232,7 @@ impl Observer {
             hinge_dissipated,
             contact,
             contact_dissipated: if model.contact.is_some() { y.get(d0 + nh).copied().unwrap_or(0.0) } else { 0.0 },
+            touched: Vec::new(),
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
             spin_rate: hub.omega_in_n.dot(&self.spin_axis_in_n),

@@ -84,7 +84,7 @@
   } else new GLTFLoader().parse(bytes.buffer, "", (gltf) => {
     scene.add(gltf.scene);
     gltf.scene.traverse((o) => {
-      if (o.isMesh && o.material && o.parent && o.name && !o.name.endsWith(" axis")) {
+      if (o.isMesh && o.material && o.parent && o.name && !o.name.endsWith(" axis") && !o.name.endsWith(" in contact")) {
         bodies[o.name] = o.material;
         o.material.userData.base = o.material.color.clone();
       }

@@ -71,6 +71,9 @@ pub struct Dynamics<'m> {
     contact_memory: RefCell<ContactMemory>,
     /// Contact over the run so far, at accepted steps.
     contact_record: RefCell<ContactRecord>,
+    /// Per body: whether it touched another at an accepted step since the last
+    /// [`Self::take_touched`].
+    touched: RefCell<Vec<bool>>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
     /// Of those, evaluations that solved for engaged locks (had constraint rows).
@@ -128,6 +131,7 @@ impl<'m> Dynamics<'m> {
             }),
             contact_memory: RefCell::new(ContactMemory::new()),
             contact_record: RefCell::new(ContactRecord::default()),
+            touched: RefCell::new(vec![false; nb]),
             evaluations: Cell::new(0),
             constrained_evaluations: Cell::new(0),
         }
@@ -186,6 +190,17 @@ impl<'m> Dynamics<'m> {
         out
     }
 
+    /// Per body: whether it touched another body at an accepted step since the last call
+    /// (or at state `y`, where the caller stands now); then starts again.
+    pub fn take_touched(&self, y: &[f64]) -> Vec<bool> {
+        let mut touched = std::mem::replace(&mut *self.touched.borrow_mut(), vec![false; self.model.bodies.len()]);
+        for p in self.contact_points(y) {
+            touched[p.key.body as usize] = true;
+            touched[p.key.other as usize] = true;
+        }
+        touched
+    }
+
     /// Contact over the run so far (at accepted steps).
     pub fn contact_record(&self) -> ContactRecord {
         *self.contact_record.borrow()
@@ -204,6 +219,11 @@ impl<'m> Dynamics<'m> {
         }
         let points = self.contact_points(y);
         self.contact_record.borrow_mut().record(t, &points);
+        let mut touched = self.touched.borrow_mut();
+        for p in &points {
+            touched[p.key.body as usize] = true;
+            touched[p.key.other as usize] = true;
+        }
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {

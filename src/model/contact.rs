@@ -73,6 +73,22 @@ impl Model {
         Ok(crease)
     }
 
+    /// Per body, whether it touches another body at the poses `poses` (centre of mass, m, N;
+    /// `[N b]`): some point of it in another body, or of another in it, deeper than
+    /// `min_depth` m. All false without contact.
+    pub fn touching(&self, poses: &[(Vec3, Mat3)], min_depth: f64) -> Vec<bool> {
+        let frames: Vec<Frame> =
+            poses.iter().map(|&(r, dcm)| Frame { position_in_n: r, dcm_n_b: dcm, ..Default::default() }).collect();
+        let mut out = vec![false; self.bodies.len()];
+        for (a, b, depth) in self.overlaps(&frames) {
+            if depth > min_depth {
+                out[a] = true;
+                out[b] = true;
+            }
+        }
+        out
+    }
+
     /// The contact points whose bodies overlap at the poses `frames`, beyond the creases and
     /// excluded pairs: `(sample's body, other body, depth m)` of the deepest point of each
     /// overlapping pair, deepest first. Empty without contact.

@@ -41,6 +41,19 @@ pub struct Frames {
     pub rotations: Vec<[f32; 4]>,
     /// The last row seen, if it was not kept.
     pending: Option<(f64, Vec<Vec3>, Vec<[f64; 4]>)>,
+    /// Per frame then per body, when the rows say (a run with contact): whether the body
+    /// touched another from this frame until the next (STEP interpolation shows it over that
+    /// interval). Empty otherwise.
+    pub touched: Vec<bool>,
+    /// The pending row's touches (for the last frame).
+    touched_pending: Vec<bool>,
+    /// Rows pushed so far, and the index of each kept one (as `times`): which rows of the
+    /// run's table the frames show.
+    rows: usize,
+    /// See `rows`.
+    pub kept: Vec<usize>,
+    /// The index of the pending row.
+    pending_row: usize,
 }
 
 impl Frames {
@@ -50,9 +63,28 @@ impl Frames {
         Self { bodies, interval: fps.map_or(0.0, |f| 1.0 / f), ..Default::default() }
     }
 
-    /// Adds the poses of one output row (if it is due).
+    /// Adds the poses of one output row (if it is due), and which bodies touched since the
+    /// row before (a run with contact).
     pub fn push(&mut self, o: &Observation) {
+        // The row's touches (since the row before) belong to the interval that starts at the
+        // last frame kept.
+        let nb = o.touched.len();
+        if nb > 0 && self.touched.len() >= nb {
+            let last = self.touched.len() - nb;
+            for (p, t) in self.touched[last..].iter_mut().zip(&o.touched) {
+                *p |= t;
+            }
+        }
+        let kept = self.times.len();
         self.push_poses(o.t, &o.body_r_in_n, &o.body_quat);
+        if self.times.len() > kept {
+            self.kept.push(self.rows);
+            self.touched.extend_from_slice(&o.touched);
+        } else {
+            self.pending_row = self.rows;
+            self.touched_pending.clone_from(&o.touched);
+        }
+        self.rows += 1;
     }
 
     /// Adds a frame from positions in N and attitude quaternions `β_{i/N}` (w, x, y, z; the
@@ -76,6 +108,8 @@ impl Frames {
         if let Some((t, r, q)) = self.pending.take() {
             self.interval = 0.0;
             self.push_poses(t, &r, &q);
+            self.kept.push(self.pending_row);
+            self.touched.append(&mut self.touched_pending);
         }
     }
 
@@ -387,6 +421,47 @@ pub fn write_glb(model: &Model, frames: &Frames, path: &Path) -> Result<Written,
     Ok(Written { frames: frames.times.len(), bytes: glb.len() })
 }
 
+/// The scale of a body's red copy while it touches: a little larger than the body, so that
+/// its faces cover the body's.
+const CONTACT_SCALE: f32 = 1.002;
+
+/// Deeper than this a point counts as touching in the animation, m: the frames' poses are
+/// single precision (a body 10 m out is placed to ~1e-6 m), so a stack lying face to face
+/// at zero gap must not flicker.
+pub const CONTACT_SHOWN_DEPTH: f64 = 1e-5;
+
+/// Per body, per frame: whether it touches another body; `None` without contact. From the
+/// run's own record when the frames carry it (every accepted step since the frame before,
+/// so a touch shorter than a frame shows), else from the frames' poses (see
+/// [`Model::touching`]).
+fn contact_tracks(model: &Model, frames: &Frames) -> Option<Vec<Vec<bool>>> {
+    model.contact.as_ref()?;
+    let nb = model.bodies.len();
+    let mut tracks = vec![Vec::with_capacity(frames.times.len()); nb];
+    if frames.touched.len() == nb * frames.times.len() {
+        for f in 0..frames.times.len() {
+            for (b, track) in tracks.iter_mut().enumerate() {
+                track.push(frames.touched[f * nb + b]);
+            }
+        }
+        return Some(tracks);
+    }
+    for f in 0..frames.times.len() {
+        let poses: Vec<(Vec3, crate::math::Mat3)> = (0..nb)
+            .map(|b| {
+                let t = frames.translations[f * nb + b];
+                let [x, y, z, w] = frames.rotations[f * nb + b];
+                let q = [w as f64, x as f64, y as f64, z as f64];
+                (Vec3::new(t[0] as f64, t[1] as f64, t[2] as f64), crate::math::dcm_from_quat(&q))
+            })
+            .collect();
+        for (track, t) in tracks.iter_mut().zip(model.touching(&poses, CONTACT_SHOWN_DEPTH)) {
+            track.push(t);
+        }
+    }
+    Some(tracks)
+}
+
 /// The glTF binary of `frames` of `model`.
 pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
     if frames.times.is_empty() || frames.bodies != model.bodies.len() {
@@ -407,6 +482,10 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
     let meshes: Vec<_> = model.bodies.iter().map(body_mesh).collect();
     let sizes: Vec<f64> = meshes.iter().map(|m| size(&m.positions)).collect();
     let mut body_nodes = Vec::new();
+    // With contact: per body a copy of its mesh in red, shown (scale 1) while it touches
+    // another body and hidden (scale 0) otherwise.
+    let mut contact_nodes: Vec<json::Index<json::Node>> = Vec::new();
+    let touching = contact_tracks(model, frames);
     let mut children: Vec<Vec<json::Index<json::Node>>> = vec![Vec::new(); model.bodies.len()];
     // Hinge lines: half the smaller body's size, on A0's z axis through its origin.
     let line_material = material(&mut root, "hinge lines".into(), [0.05, 0.05, 0.05], false);
@@ -474,6 +553,30 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
             )],
             weights: None,
         });
+        if let Some(tracks) = &touching {
+            let red = material(&mut root, format!("{} in contact", body.name), [0.9, 0.08, 0.05], mesh.two_sided);
+            let red_mesh = root.push(json::Mesh {
+                extensions: None,
+                extras: Default::default(),
+                name: Some(format!("{} in contact", body.name)),
+                primitives: vec![primitive(
+                    vec![(json::mesh::Semantic::Positions, positions), (json::mesh::Semantic::Normals, normals)],
+                    Some(indices),
+                    red,
+                    json::mesh::Mode::Triangles,
+                )],
+                weights: None,
+            });
+            let shown = if tracks[b][0] { CONTACT_SCALE } else { 0.0 };
+            let node = root.push(json::Node {
+                mesh: Some(red_mesh),
+                name: Some(format!("{} in contact", body.name)),
+                scale: Some([shown; 3]),
+                ..Default::default()
+            });
+            children[b].push(node);
+            contact_nodes.push(node);
+        }
         let node = root.push(json::Node {
             mesh: Some(gl_mesh),
             name: Some(body.name.clone()),
@@ -550,6 +653,33 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
                     extras: Default::default(),
                     node: *node,
                     path: Valid(path),
+                },
+                extensions: None,
+                extras: Default::default(),
+            });
+        }
+    }
+    // Contact: each body's red copy scaled 1 (a little more, to cover it) while it touches
+    // and 0 otherwise, stepwise.
+    if let Some(tracks) = &touching {
+        for (track, node) in tracks.iter().zip(&contact_nodes) {
+            let values: Vec<f32> = track.iter().flat_map(|&t| [if t { CONTACT_SCALE } else { 0.0 }; 3]).collect();
+            let output = bin.accessor(&mut root, &values, json::accessor::Type::Vec3, times.len(), None, false);
+            let sampler = json::Index::new(samplers.len() as u32);
+            samplers.push(json::animation::Sampler {
+                extensions: None,
+                extras: Default::default(),
+                input,
+                interpolation: Valid(json::animation::Interpolation::Step),
+                output,
+            });
+            channels.push(json::animation::Channel {
+                sampler,
+                target: json::animation::Target {
+                    extensions: None,
+                    extras: Default::default(),
+                    node: *node,
+                    path: Valid(json::animation::Property::Scale),
                 },
                 extensions: None,
                 extras: Default::default(),

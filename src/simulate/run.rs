@@ -102,6 +102,7 @@ impl OutputTimes {
 impl StreamOut<'_, '_, '_, '_> {
     fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
         let contact = self.dynamics.model().contact.as_ref().map(|_| self.dynamics.contact_summary(y));
+        let touched = if contact.is_some() { self.dynamics.take_touched(y) } else { Vec::new() };
         let mut o = self.observer.observe(
             self.dynamics.model(),
             t,
@@ -110,6 +111,7 @@ impl StreamOut<'_, '_, '_, '_> {
             &self.dynamics.memories(),
             contact,
         );
+        o.touched = touched;
         // Locked directions carry loads too: their reactions join the law's in the wrench
         // columns (dynamics/reactions.rs), when those are asked for.
         if self.hinge_loads {

@@ -24,12 +24,13 @@ fn main() -> ExitCode {
         #[cfg(feature = "animation")]
         Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps, view: page } => {
             let animation_target = animation.map(|path| (path, animation_fps));
-            run::run(&scenario, csv, columns, large_output, quiet, animation_target, page.as_deref()).and_then(|csv| {
-                match page {
-                    Some(page) => view::view(&scenario, &csv, &page, animation_fps, &[]),
-                    None => Ok(()),
-                }
-            })
+            let page_target = page.as_deref().map(|p| (p, animation_fps));
+            run::run(&scenario, csv, columns, large_output, quiet, animation_target, page_target).and_then(
+                |(csv, frames)| match (page, frames) {
+                    (Some(page), Some(frames)) => view::view_run(&scenario, &csv, &page, frames),
+                    _ => Ok(()),
+                },
+            )
         }
         #[cfg(not(feature = "animation"))]
         Command::Run { scenario, csv, columns, large_output, quiet } => {

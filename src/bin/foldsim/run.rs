@@ -27,8 +27,8 @@ pub(crate) fn run(
     large_output: bool,
     quiet: bool,
     animation: Option<(PathBuf, Option<f64>)>,
-    page: Option<&Path>,
-) -> Result<PathBuf, String> {
+    page: Option<(&Path, Option<f64>)>,
+) -> Result<(PathBuf, Option<Frames>), String> {
     let scenario = Scenario::from_file(path).map_err(|e| e.to_string())?;
     if let Some((_, fps)) = &animation {
         check_fps(*fps)?;
@@ -55,7 +55,8 @@ pub(crate) fn run(
     if let Some((glb, _)) = &animation {
         outputs.push(("--animation", glb));
     }
-    if let Some(page) = page {
+    if let Some((page, fps)) = page {
+        check_fps(fps)?;
         outputs.push(("--view", page));
     }
     check_outputs(&scenario.inputs, &outputs)?;
@@ -98,7 +99,10 @@ pub(crate) fn run(
         }
         if interrupted.load(Ordering::SeqCst) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     };
-    let mut frames = animation.as_ref().map(|(_, fps)| Frames::new(scenario.model.bodies.len(), *fps));
+    // Frames for the animation and the page: the page's from the run itself, since the rows
+    // alone miss contacts shorter than a row.
+    let fps = animation.as_ref().and_then(|(_, fps)| *fps).or(page.and_then(|(_, fps)| fps));
+    let mut frames = (animation.is_some() || page.is_some()).then(|| Frames::new(scenario.model.bodies.len(), fps));
     let result = {
         let mut both = |o: &foldsim::observe::Observation| -> Result<(), String> {
             sink.record(o)?;
@@ -118,11 +122,13 @@ pub(crate) fn run(
             if !quiet {
                 crate::report::print_report(&scenario, &report, &written);
             }
-            if let (Some((glb, _)), Some(mut frames)) = (animation, frames) {
-                frames.finish();
-                write_animation(&scenario.model, &frames, &glb, quiet)?;
+            if let Some(f) = frames.as_mut() {
+                f.finish();
             }
-            Ok(written)
+            if let (Some((glb, _)), Some(frames)) = (animation, &frames) {
+                write_animation(&scenario.model, frames, &glb, quiet)?;
+            }
+            Ok((written, frames))
         }
         Err(e) => {
             let partial = sink.partial_path().to_path_buf();

@@ -47,8 +47,31 @@ pub(crate) fn view(
     columns: &[String],
 ) -> Result<(), String> {
     let (scenario, table, frames, kept) = finished_run(scenario_path, csv, output, fps)?;
+    write_page(scenario_path, &scenario, &table, &frames, &kept, columns, output)
+}
+
+/// `foldsim run --view`: the page of the run just made, its frames (with every contact the
+/// run saw between them) from the run itself, its plot from the CSV written.
+#[cfg(feature = "animation")]
+pub(crate) fn view_run(scenario_path: &Path, csv: &Path, output: &Path, frames: Frames) -> Result<(), String> {
+    let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
+    let table = foldsim::output::animation::Table::read(csv)?;
+    let kept = frames.kept.clone();
+    write_page(scenario_path, &scenario, &table, &frames, &kept, &[], output)
+}
+
+#[cfg(feature = "animation")]
+fn write_page(
+    scenario_path: &Path,
+    scenario: &Scenario,
+    table: &foldsim::output::animation::Table,
+    frames: &Frames,
+    kept: &[usize],
+    columns: &[String],
+    output: &Path,
+) -> Result<(), String> {
     let title = scenario.title.clone().unwrap_or_else(|| scenario_path.display().to_string());
-    let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, columns)?;
+    let html = foldsim::output::viewer::page(&title, &scenario.model, table, frames, kept, columns)?;
     foldsim::output::paths::write_atomically(output, html.as_bytes())?;
     outln!(
         "  viewer           {} frames, {:.1} MB -> {}",

@@ -5,6 +5,7 @@
 //! of hinges or of the state vector.
 
 pub mod law;
+pub mod proximity;
 pub mod solid;
 
 use crate::math::{Mat3, Real, Vec3, re, real};
@@ -13,6 +14,7 @@ use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as PVec;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use proximity::Proximity;
 use solid::{Sample, Solid};
 use std::collections::{HashMap, HashSet};
 
@@ -122,6 +124,8 @@ pub struct Workspace {
     bodies: Vec<usize>,
     pairs: Vec<(usize, usize)>,
     bvh: BvhWorkspace,
+    /// Per body, its motion since the proximity list's reference.
+    motion: Vec<f64>,
 }
 
 impl std::fmt::Debug for Workspace {
@@ -134,6 +138,13 @@ impl ContactSet {
     /// Contact among `solids` under `law`, no pair excluded.
     pub fn new(law: ContactLaw, solids: Vec<Option<Solid>>) -> Self {
         Self { law, solids, excluded: HashSet::new(), crease: HashMap::new() }
+    }
+
+    /// The proximity list's skin (see [`proximity`]), m: a quarter of the smallest body's
+    /// largest half extent, so that the list is rebuilt after a small fraction of a body's
+    /// size of motion relative to the hub.
+    pub fn skin(&self) -> f64 {
+        0.25 * self.solids.iter().flatten().map(|s| s.bound_half_in_body.max()).fold(f64::INFINITY, f64::min)
     }
 
     /// Bodies `a` and `b` never touch.
@@ -188,10 +199,75 @@ impl ContactSet {
     /// excluded pairs left out. `memory` gives the points already in contact their impact
     /// speed; a new point's is its approach speed now.
     pub fn evaluate(&self, frames: &[Frame], memory: &ContactMemory, ws: &mut Workspace, out: &mut Vec<ContactPoint>) {
+        self.find_pairs(frames, self.law.margin, ws);
+        for &(a, b) in ws.pairs.iter() {
+            self.probe(a, b, frames, memory, out);
+            self.probe(b, a, frames, memory, out);
+        }
+    }
+
+    /// As [`Self::evaluate`], probing only the pairs `near` says may touch (the same points,
+    /// found faster; every pair when the bodies have moved beyond its reach).
+    pub fn evaluate_near(
+        &self,
+        frames: &[Frame],
+        memory: &ContactMemory,
+        near: &Proximity,
+        ws: &mut Workspace,
+        out: &mut Vec<ContactPoint>,
+    ) {
+        if !near.motion(frames, &mut ws.motion) {
+            return self.evaluate(frames, memory, ws, out);
+        }
+        for &(a, b, gap) in &near.pairs {
+            if ws.motion[a] + ws.motion[b] < gap {
+                continue;
+            }
+            self.probe(a, b, frames, memory, out);
+            self.probe(b, a, frames, memory, out);
+        }
+    }
+
+    /// The pairs (lower index first, in order, excluded pairs left out) whose bounding boxes,
+    /// each grown by `grow` m, overlap at `frames`.
+    pub fn candidate_pairs(&self, frames: &[Frame], grow: f64) -> Vec<(usize, usize)> {
+        let mut ws = Workspace::default();
+        self.find_pairs(frames, grow, &mut ws);
+        ws.pairs
+    }
+
+    /// The gap between `body`'s samples (crease samples left out) and `other`'s solid at
+    /// `frames`, m: the least `d − ρ` over the samples, or `cap` if that is larger. Branch
+    /// and bound over the sample groups: a group whose sphere is no nearer than the least
+    /// found so far is not opened.
+    pub fn gap(&self, body: usize, other: usize, frames: &[Frame], cap: f64) -> f64 {
+        let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return f64::INFINITY };
+        let (fa, fb) = (&frames[body], &frames[other]);
+        let crease = self.crease.get(&(body, other));
+        let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
+        let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
+        let mut gap = cap;
+        for (run, centre, radius) in &sa.groups {
+            let bound = sb.signed_distance(&(dcm_b_a * centre + r_ab)).0 - radius;
+            if bound >= gap {
+                continue;
+            }
+            for k in run.clone() {
+                if crease.is_some_and(|c| c[k]) {
+                    continue;
+                }
+                let s = &sa.samples[k];
+                gap = gap.min(sb.signed_distance(&(dcm_b_a * s.point_in_body + r_ab)).0 - s.radius);
+            }
+        }
+        gap
+    }
+
+    /// Fills `ws.pairs` with the candidate pairs at `frames`, boxes grown by `grow`.
+    fn find_pairs(&self, frames: &[Frame], grow: f64, ws: &mut Workspace) {
         ws.aabbs.clear();
         ws.bodies.clear();
         ws.pairs.clear();
-        let grow = self.law.margin;
         for (i, s) in self.solids.iter().enumerate() {
             let Some(s) = s else { continue };
             let f = &frames[i];
@@ -215,13 +291,7 @@ impl ContactSet {
         // The hierarchy's order depends on its build; contacts are summed in pair order, so
         // that the forces' rounding does not depend on it.
         pairs.sort_unstable();
-        for &(a, b) in pairs.iter() {
-            if self.is_excluded(a, b) {
-                continue;
-            }
-            self.probe(a, b, frames, memory, out);
-            self.probe(b, a, frames, memory, out);
-        }
+        pairs.retain(|&(a, b)| !self.excluded.contains(&(a, b)));
     }
 
     /// `body`'s samples against `other`'s solid.

@@ -59,7 +59,14 @@ pub struct Solid {
     pub bound_center_in_body: Vec3,
     /// Half extents of that box (body axes), m.
     pub bound_half_in_body: Vec3,
+    /// Runs of at most [`GROUP`] consecutive samples with a sphere about them (centre m, body
+    /// frame; radius m, the samples' own radii included): a sphere's distance from a solid
+    /// bounds its samples' from below.
+    pub groups: Vec<(std::ops::Range<usize>, Vec3, f64)>,
 }
+
+/// Samples per group (see [`Solid::groups`]).
+pub const GROUP: usize = 16;
 
 /// The most sample points one body may have: beyond it a run would spend its time probing.
 pub const MAX_SAMPLES: usize = 20_000;
@@ -214,7 +221,20 @@ impl Solid {
         for s in &samples {
             grow(s.point_in_body, s.radius);
         }
+        let groups = (0..samples.len())
+            .step_by(GROUP)
+            .map(|start| {
+                let run = start..(start + GROUP).min(samples.len());
+                let centre = samples[run.clone()].iter().map(|s| s.point_in_body).sum::<Vec3>() / run.len() as f64;
+                let radius = samples[run.clone()]
+                    .iter()
+                    .map(|s| (s.point_in_body - centre).norm() + s.radius)
+                    .fold(0.0, f64::max);
+                (run, centre, radius)
+            })
+            .collect();
         Ok(Self {
+            groups,
             origin_in_body: origin,
             dcm_s_b,
             kind,

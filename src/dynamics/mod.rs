@@ -15,6 +15,7 @@ pub mod momentum;
 pub mod newton;
 pub mod reactions;
 
+use crate::contact::proximity::Proximity;
 use crate::contact::{ContactMemory, ContactPoint, ContactRecord, ContactSummary, Frame};
 use crate::kinematics::{HingeKinematics, hinge_kinematics};
 use crate::law::{EventKind, HingeWrench, LawMemory};
@@ -74,6 +75,8 @@ pub struct Dynamics<'m> {
     /// Per body: whether it touched another at an accepted step since the last
     /// [`Self::take_touched`].
     touched: RefCell<Vec<bool>>,
+    /// The pairs that may touch soon (crate::contact::proximity), kept across steps.
+    proximity: RefCell<Option<Proximity>>,
     scratch: RefCell<Scratch>,
     evaluations: Cell<u64>,
     /// Of those, evaluations that solved for engaged locks (had constraint rows).
@@ -132,6 +135,7 @@ impl<'m> Dynamics<'m> {
             contact_memory: RefCell::new(ContactMemory::new()),
             contact_record: RefCell::new(ContactRecord::default()),
             touched: RefCell::new(vec![false; nb]),
+            proximity: RefCell::new(None),
             evaluations: Cell::new(0),
             constrained_evaluations: Cell::new(0),
         }
@@ -186,8 +190,25 @@ impl<'m> Dynamics<'m> {
         let Scratch { frames, contact_work, .. } = &mut *scratch;
         fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
         let mut out = Vec::new();
-        set.evaluate(frames, &self.contact_memory.borrow(), contact_work, &mut out);
+        match &*self.proximity.borrow() {
+            Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, &mut out),
+            None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, &mut out),
+        }
         out
+    }
+
+    /// Rebuilds the proximity list at the accepted state `y` if the bodies have moved beyond
+    /// the reach of the one kept (or there is none).
+    fn refresh_proximity(&self, y: &[f64]) {
+        let Some(set) = &self.model.contact else { return };
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { frames, .. } = &mut *scratch;
+        fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
+        let mut proximity = self.proximity.borrow_mut();
+        let mut motion = Vec::new();
+        if proximity.as_ref().is_none_or(|p| !p.motion(frames, &mut motion)) {
+            *proximity = Some(Proximity::build(set, frames, set.skin()));
+        }
     }
 
     /// Per body: whether it touched another body at an accepted step since the last call
@@ -217,6 +238,7 @@ impl<'m> Dynamics<'m> {
         if self.model.contact.is_none() {
             return;
         }
+        self.refresh_proximity(y);
         let points = self.contact_points(y);
         self.contact_record.borrow_mut().record(t, &points);
         let mut touched = self.touched.borrow_mut();
@@ -267,6 +289,8 @@ impl<'m> Dynamics<'m> {
             ranges[i] = first..locks.len();
         });
         *self.memories.borrow_mut() = mem;
+        *self.proximity.borrow_mut() = None;
+        self.refresh_proximity(y);
         let n = locks.len();
         *self.restraint.borrow_mut() = vec![false; n];
         *self.locks.borrow_mut() = locks;
@@ -351,7 +375,10 @@ impl<'m> Dynamics<'m> {
             // (crate::contact): P and H hold exactly.
             fill_frames(motions.iter().copied(), frames);
             contacts.clear();
-            set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts);
+            match &*self.proximity.borrow() {
+                Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, contacts),
+                None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts),
+            }
             let mut dissipation = 0.0;
             for p in contacts.iter() {
                 let (a, b) = (p.key.body as usize, p.key.other as usize);

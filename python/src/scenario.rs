@@ -242,6 +242,22 @@ impl Scenario {
         d.set_item("deployed_90", report.deployed_90)?;
         d.set_item("deployed_start", report.deployed_start)?;
         d.set_item("deployed_max", report.deployed_max)?;
+        // Contact (None without a [contact] table): the first touch, the deepest penetration
+        // and the largest force, with times and body pairs, and the energy dissipated.
+        let body = |i: usize| s.model.bodies[i].name.clone();
+        match &report.contact {
+            None => d.set_item("contact", py.None())?,
+            Some(c) => {
+                let cd = PyDict::new(py);
+                cd.set_item("first", c.first.map(|(t, a, b)| (t, body(a), body(b))))?;
+                let (depth, t, a, b) = c.deepest;
+                cd.set_item("deepest", (depth > 0.0).then(|| (depth, t, body(a), body(b))))?;
+                let (force, t, a, b) = c.force_max;
+                cd.set_item("force_max", (force > 0.0).then(|| (force, t, body(a), body(b))))?;
+                cd.set_item("dissipated", report.contact_dissipated)?;
+                d.set_item("contact", cd)?;
+            }
+        }
         let hinge = |i: usize| s.model.hinges[i].name.clone();
         let events: Vec<(f64, String, String, String)> = report
             .events

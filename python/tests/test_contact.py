@@ -1,0 +1,40 @@
+"""Contact from Python (docs/contact.md): the report's contact figures and the columns.
+
+Run from the repository root after `maturin develop --release` in python/: `pytest python/tests`.
+"""
+
+from pathlib import Path
+
+import foldsim
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_contact_report_and_columns():
+    """The panel thrown onto the hub: the report names the pair and gives the first touch,
+    the deepest penetration (a small fraction of the 2-cm panel) and the largest force; the
+    contact columns are there and agree with the report's figures at the rows."""
+    r = foldsim.load(ROOT / "examples" / "contact-panel-hub.toml").run()
+    c = r.report["contact"]
+    t_first, a, b = c["first"]
+    assert {a, b} == {"panel", "hub"}
+    assert 0.8 < t_first < 0.9
+    depth, t_deep, _, _ = c["deepest"]
+    assert 0.0 < depth < 0.1 * 0.02
+    assert t_deep >= t_first
+    force, _, _, _ = c["force_max"]
+    assert force > 0.0
+    assert c["dissipated"] > 0.0
+    rows = r.columns
+    for name in ("contacts", "penetration_max", "contact_force_max"):
+        assert name in rows
+    # The rows see no more than the accepted steps did.
+    assert max(r["penetration_max"]) <= depth * (1 + 1e-12)
+    assert max(r["contacts"]) >= 1
+
+
+def test_no_contact_table_means_no_contact():
+    """Without [contact] the report says None and no contact column is written."""
+    r = foldsim.load(ROOT / "examples" / "paper-1panel.toml").run()
+    assert r.report["contact"] is None
+    assert "contacts" not in r.columns

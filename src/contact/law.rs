@@ -81,7 +81,9 @@ impl ContactLaw {
     /// for a point that came into contact at `impact_speed` (m/s). Generic over the scalar
     /// (the exact Jacobian runs it in dual numbers; the clamp is chosen on the real part).
     pub fn normal<T: Real>(&self, depth: T, rate: T, impact_speed: f64) -> PointForce<T> {
-        let elastic = depth.powf(real(self.exponent)) * real(self.stiffness);
+        // δ^1.5 as δ √δ: the default exponent, at a fraction of pow's cost.
+        let power = if self.exponent == 1.5 { depth * depth.sqrt() } else { depth.powf(real(self.exponent)) };
+        let elastic = power * real(self.stiffness);
         let v0 = impact_speed.max(self.min_impact_speed);
         let factor = real::<T>(1.0) + rate * real(self.chi / v0);
         let normal = if re(factor) > 0.0 { elastic * factor } else { real(0.0) };

@@ -302,18 +302,50 @@ impl ContactSet {
         // A sample's centre in `other`'s frame: dcm_b_a p + r_ab.
         let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
         let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
-        for (k, s) in sa.samples.iter().enumerate() {
-            if crease.is_some_and(|c| c[k]) {
+        // A group whose sphere is outside `other`'s solid (its distance above the sphere's
+        // radius) holds no sample in contact: the distance is 1-Lipschitz.
+        let open = |centre: &Vec3, radius: f64| {
+            let c = dcm_b_a * centre + r_ab;
+            let q = (c - sb.bound_center_in_body).abs() - sb.bound_half_in_body;
+            q.max() <= radius && sb.signed_distance(&c).0 <= radius
+        };
+        for (run, centre, radius) in &sa.groups {
+            if !open(centre, *radius) {
                 continue;
+            }
+            for k in run.clone() {
+                self.probe_sample(body, other, k, (fa, fb), (&dcm_b_a, &r_ab), crease, memory, out);
+            }
+        }
+    }
+
+    /// Sample `k` of `body` against `other`'s solid (see [`Self::probe`]).
+    #[allow(clippy::too_many_arguments)]
+    fn probe_sample(
+        &self,
+        body: usize,
+        other: usize,
+        k: usize,
+        (fa, fb): (&Frame, &Frame),
+        (dcm_b_a, r_ab): (&Mat3, &Vec3),
+        crease: Option<&Vec<bool>>,
+        memory: &ContactMemory,
+        out: &mut Vec<ContactPoint>,
+    ) {
+        let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return };
+        let s = &sa.samples[k];
+        {
+            if crease.is_some_and(|c| c[k]) {
+                return;
             }
             let p = dcm_b_a * s.point_in_body + r_ab;
             // Quick rejection by `other`'s bounding box.
             let q = (p - sb.bound_center_in_body).abs() - sb.bound_half_in_body;
             if q.max() > s.radius {
-                continue;
+                return;
             }
             let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-            let Some(f) = self.point_force(s, sb, fa, fb, memory.get(&key).copied()) else { continue };
+            let Some(f) = self.point_force(s, sb, fa, fb, memory.get(&key).copied()) else { return };
             out.push(ContactPoint {
                 key,
                 point_in_n: f.point_in_n,

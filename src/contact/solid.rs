@@ -257,7 +257,7 @@ impl Solid {
                 extrude(d2, g2, p.z, *half_thickness)
             }
             SolidKind::Cylinder { radius, half_height } => {
-                let r = p.x.hypot(p.y);
+                let r = (p.x * p.x + p.y * p.y).sqrt();
                 let g2 = if re(r) > 0.0 { [p.x / r, p.y / r] } else { [real(1.0), real(0.0)] };
                 extrude(r - real(*radius), g2, p.z, *half_height)
             }
@@ -309,7 +309,7 @@ fn extrude<T: Real>(d2: T, g2: [T; 2], z: T, h: f64) -> (T, Vector3<T>) {
     let sz: T = if re(z) < 0.0 { real(-1.0) } else { real(1.0) };
     let zero = real::<T>(0.0);
     if re(d2) > 0.0 && re(dz) > 0.0 {
-        let len = d2.hypot(dz);
+        let len = (d2 * d2 + dz * dz).sqrt();
         (len, Vector3::new(g2[0] * d2 / len, g2[1] * d2 / len, sz * dz / len))
     } else if re(d2) > re(dz) {
         (d2, Vector3::new(g2[0], g2[1], zero))
@@ -331,7 +331,8 @@ pub fn polygon_distance<T: Real>(polygon: &[[f64; 2]], p: [T; 2]) -> (T, [T; 2])
         let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
         let (wx, wy) = (px - a[0], py - a[1]);
         let t = ((wx * ex + wy * ey) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
-        let d = (wx - t * ex).hypot(wy - t * ey);
+        let (qx, qy) = (wx - t * ex, wy - t * ey);
+        let d = (qx * qx + qy * qy).sqrt();
         if best.is_none_or(|b| d < b.0) {
             best = Some((d, i, t));
         }
@@ -347,7 +348,7 @@ pub fn polygon_distance<T: Real>(polygon: &[[f64; 2]], p: [T; 2]) -> (T, [T; 2])
     let tt: T = if t > 0.0 && t < 1.0 { (wx * real(ex) + wy * real(ey)) / real(ex * ex + ey * ey) } else { real(t) };
     let (dx, dy) = (wx - tt * real(ex), wy - tt * real(ey));
     let (dist, g) = if d > 0.0 {
-        let dd = dx.hypot(dy);
+        let dd = (dx * dx + dy * dy).sqrt();
         (dd, [dx / dd, dy / dd])
     } else {
         // On the boundary: the edge's outward normal (counter-clockwise polygon).

@@ -569,3 +569,47 @@ fn cylinder_top_and_excluded_pairs() {
     assert!(report.contact.unwrap().first.is_none());
     assert!((relative_velocity(obs.last().unwrap()).z / v + 1.0).abs() < 1e-12);
 }
+
+/// A non-convex plate (an L, 0.2 m thick; no convex split: its signed distance is the
+/// polygon's, exact): the cube dropped onto one of its arms sinks in as into the slab (the
+/// deepest penetration to 1 %; the L turns a little, 1e-3 of the depth) and rebounds with
+/// E kept (1e-6), dropped into its notch it falls past untouched.
+#[test]
+fn non_convex_plate() {
+    let (k, v) = (1e7, 1.0);
+    let dmax = (2.5 * M_STAR * v * v / (2.0 * POINTS * k)).powf(0.4);
+    let duration_hertz = 2.0 * dmax / v * hertz_time_integral(1.5);
+    let gap = 0.2 * dmax;
+    // The L (the square [−1, 1]² less [0, 1]²) shifted by 1/6 so that its centroid is at the
+    // origin; 800 kg over its 3 m².
+    let c = 1.0 / 6.0;
+    let l_shape = format!(
+        "shape = {{ polygon = [[{a}, {a}, 0.0], [{b}, {a}, 0.0], [{b}, {c}, 0.0], [{c}, {c}, 0.0], [{c}, {b}, 0.0], [{a}, {b}, 0.0]], thickness = 0.2 }}\ndensity = {}",
+        800.0 / 3.0,
+        a = -1.0 + c,
+        b = 1.0 + c,
+    );
+    let at = |x: f64, y: f64| {
+        let text = impact_text(
+            v,
+            gap,
+            &format!("stiffness = {k}\nrestitution = 1.0"),
+            gap / v + 1.5 * duration_hertz,
+            duration_hertz / 2000.0,
+        )
+        .replace("shape = { box = [2.0, 2.0, 0.2] }\ndensity = 1000.0", &l_shape)
+        .replace("a0 = { position = [0.0, 0.0,", &format!("a0 = {{ position = [{x}, {y},"));
+        let s = Scenario::from_toml(&text, "l.toml").unwrap_or_else(|e| panic!("{e}"));
+        run(&s)
+    };
+    let (table, obs, _) = at(-0.4, -0.4);
+    let deepest = table.rows.iter().map(|r| r[table.col("penetration_max")]).fold(0.0, f64::max);
+    assert!((deepest / dmax - 1.0).abs() < 1e-2, "on the arm: deepest {deepest} vs {dmax}");
+    // Off the L's centre the impact also turns the plate: E, not the cube's speed, is kept.
+    let (first, last) = (&obs[0], obs.last().unwrap());
+    assert_eq!(last.contact.unwrap().pairs, 0);
+    assert!((last.energy() - first.energy()).abs() < 1e-6 * first.energy(), "E kept through the elastic impact");
+    let (_, obs, report) = at(0.7, 0.7);
+    assert!(report.contact.unwrap().first.is_none(), "into the notch: {:?}", report.contact);
+    assert!((relative_velocity(obs.last().unwrap()).z / v + 1.0).abs() < 1e-12);
+}

@@ -517,7 +517,7 @@ fn proximity_list_finds_every_contact() {
             })
             .collect()
     };
-    let memory = ContactMemory::new();
+    let memory = ContactMemory::default();
     let (mut compared, mut with_contact) = (0, 0);
     for lag in [1, 5, 20] {
         for k in lag..obs.len() {

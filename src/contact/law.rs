@@ -92,7 +92,8 @@ impl ContactLaw {
 
     /// Elastic energy stored at penetration `depth`, J: K δ^(n+1) / (n+1).
     pub fn energy(&self, depth: f64) -> f64 {
-        self.stiffness * depth.powf(self.exponent + 1.0) / (self.exponent + 1.0)
+        let power = if self.exponent == 1.5 { depth * depth * depth.sqrt() } else { depth.powf(self.exponent + 1.0) };
+        self.stiffness * power / (self.exponent + 1.0)
     }
 
     /// Friction force on the sliding body for slip velocity `slip` (m/s, tangential) under

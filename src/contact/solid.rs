@@ -332,7 +332,8 @@ pub fn polygon_distance<T: Real>(polygon: &[[f64; 2]], p: [T; 2]) -> (T, [T; 2])
         let (wx, wy) = (px - a[0], py - a[1]);
         let t = ((wx * ex + wy * ey) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
         let (qx, qy) = (wx - t * ex, wy - t * ey);
-        let d = (qx * qx + qy * qy).sqrt();
+        // Squared: one square root at the end.
+        let d = qx * qx + qy * qy;
         if best.is_none_or(|b| d < b.0) {
             best = Some((d, i, t));
         }
@@ -341,6 +342,7 @@ pub fn polygon_distance<T: Real>(polygon: &[[f64; 2]], p: [T; 2]) -> (T, [T; 2])
         }
     }
     let Some((d, i, t)) = best else { return (real(f64::INFINITY), [real(0.0), real(0.0)]) };
+    let d = d.sqrt();
     let (a, b) = (polygon[i], polygon[(i + 1) % n]);
     let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
     let (wx, wy) = (p[0] - real(a[0]), p[1] - real(a[1]));

@@ -132,7 +132,7 @@ impl<'m> Dynamics<'m> {
                 contacts: Vec::new(),
                 contact_work: Default::default(),
             }),
-            contact_memory: RefCell::new(ContactMemory::new()),
+            contact_memory: RefCell::new(ContactMemory::default()),
             contact_record: RefCell::new(ContactRecord::default()),
             touched: RefCell::new(vec![false; nb]),
             proximity: RefCell::new(None),

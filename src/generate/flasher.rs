@@ -107,7 +107,15 @@ pub struct Flasher {
     pub kinds: BTreeMap<(usize, usize), CreaseKind>,
     /// The checks.
     pub geometry: FlasherGeometry,
+    /// Per panel (the hub first): the outward normal of the prism wall it lies in when
+    /// stowed and its layer there, counted outwards from 0 (the wrap in each wall is a z-fold
+    /// from the hub out: ring i's region at 2(i − 1), its strip at 2i − 1); `None` for the
+    /// hub and for panels that span two walls (`ring-quads`).
+    pub layers: Vec<Option<Layer>>,
 }
+
+/// A stowed panel's prism wall (its outward unit normal) and its layer there (0 innermost).
+pub type Layer = (Vec3, usize);
 
 /// Node numbering: hub corners first, then per gore `V_k,i`, `M_k,i` for i = 2…n.
 struct Nodes {
@@ -176,32 +184,49 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
     let mut ring_quads: Vec<Vec<usize>> = Vec::new();
     // The edge each Quads panel's two triangles share (its diagonal), as (a, b).
     let mut diagonals: Vec<(usize, usize)> = Vec::new();
+    // Per triangle and per quad: its wall's outward normal and its layer there.
+    let wall = |w: usize| {
+        let a = ((w % gores) as f64 + 0.5) * beta;
+        Vec3::new(a.cos(), a.sin(), 0.0)
+    };
+    let (mut tri_layers, mut quad_layers) = (Vec::new(), Vec::new());
     for k in 0..gores {
         let (v, m, vn) = (|i| nodes.v(k, i), |i| nodes.m(k, i), |i| nodes.v(k + 1, i));
-        // The strip between V_k and M_k: a triangle at the hub corner, then planar quads.
+        // The strip between V_k and M_k: a triangle at the hub corner, then planar quads;
+        // ring i lies in wall k + i − 1, layer 2i − 1.
         triangles.push([v(1), v(2), m(2)]);
+        tri_layers.push((wall(k), 1));
         quads.push(vec![v(1), v(2), m(2)]);
+        quad_layers.push((wall(k), 1));
         ring_quads.push(vec![v(1), v(2), m(2)]);
         for i in 2..n {
             triangles.push([v(i), v(i + 1), m(i + 1)]);
             triangles.push([v(i), m(i + 1), m(i)]);
+            tri_layers.extend([(wall(k + i - 1), 2 * i - 1); 2]);
             quads.push(vec![v(i), v(i + 1), m(i + 1), m(i)]);
+            quad_layers.push((wall(k + i - 1), 2 * i - 1));
             ring_quads.push(vec![v(i), v(i + 1), m(i + 1), m(i)]);
             diagonals.push((v(i), m(i + 1)));
         }
-        // The region between M_k and V_k+1.
+        // The region between M_k and V_k+1: ring i in wall k + i − 1, layer 2(i − 1).
         triangles.push([m(1), vn(1), m(2)]);
+        tri_layers.push((wall(k), 0));
         quads.push(vec![m(1), vn(1), m(2)]);
+        quad_layers.push((wall(k), 0));
         ring_quads.push(vec![m(1), vn(1), vn(2), m(2)]);
         for i in 2..=n {
             triangles.push([vn(i - 1), vn(i), m(i)]);
+            tri_layers.push((wall(k + i - 1), 2 * (i - 1)));
             if i < n {
                 triangles.push([m(i), vn(i), m(i + 1)]);
+                tri_layers.push((wall(k + i - 1), 2 * (i - 1)));
                 quads.push(vec![vn(i - 1), vn(i), m(i + 1), m(i)]);
+                quad_layers.push((wall(k + i - 1), 2 * (i - 1)));
                 diagonals.push((m(i), vn(i)));
                 ring_quads.push(vec![m(i), vn(i), vn(i + 1), m(i + 1)]);
             } else {
                 quads.push(vec![vn(i - 1), vn(i), m(i)]);
+                quad_layers.push((wall(k + i - 1), 2 * (i - 1)));
             }
         }
     }
@@ -211,11 +236,17 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
     check(&nodes, &stowed, &deployed, &triangles, hub_radius, dz, &mut geometry);
 
     let hub: Vec<usize> = (0..gores).collect();
-    let body_panels = match model {
-        PanelModel::Quads => quads,
-        PanelModel::RingQuads => ring_quads,
-        PanelModel::Triangles => triangles.iter().map(|t| t.to_vec()).collect(),
+    let (body_panels, layers): (Vec<Vec<usize>>, Vec<Option<Layer>>) = match model {
+        PanelModel::Quads => (quads, quad_layers.into_iter().map(Some).collect()),
+        PanelModel::RingQuads => {
+            let count = ring_quads.len();
+            (ring_quads, vec![None; count])
+        }
+        PanelModel::Triangles => {
+            (triangles.iter().map(|t| t.to_vec()).collect(), tri_layers.into_iter().map(Some).collect())
+        }
     };
+    let layers: Vec<Option<Layer>> = std::iter::once(None).chain(layers).collect();
     // Every panel counter-clockwise seen from the deployed sheet's top (+z).
     let mut panels = vec![hub];
     for p in body_panels {
@@ -244,7 +275,12 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
             senses.insert(edge(nodes.v(k, i), nodes.v(k, i + 1)), Sense::Valley);
         }
     }
-    Ok(Flasher { sheet: Sheet { deployed, stowed, panels, senses }, kinds, geometry })
+    Ok(Flasher {
+        sheet: Sheet { deployed, stowed, panels, senses, stowed_offsets: Vec::new() },
+        kinds,
+        geometry,
+        layers,
+    })
 }
 
 /// Twice the signed area of a polygon's projection on the xy plane, m².
@@ -456,7 +492,12 @@ pub struct FlasherReport {
     /// Stored strain energy of the stowed state in the hinges' stiff directions, J
     /// (½ k δ² and ½ k θ² off the fold; zero when every panel is rigid in both states).
     pub strain_energy: f64,
+    /// With thick panels: the panel thickness (m) and the outermost layer of the stowed wrap.
+    pub layers: Option<(f64, usize)>,
 }
+
+/// The `[contact]` table written with thick panels.
+pub const CONTACT_DEFAULTS: &str = "\n# Thick panels: contact between every pair of bodies (docs/contact.md).\n[contact]\nstiffness = 1e7       # N/m^1.5 per contact point\nrestitution = 0.3\nfriction = 0.2\n";
 
 /// Builds the scenario text of a flasher and its report.
 pub fn flasher_scenario(
@@ -464,7 +505,18 @@ pub fn flasher_scenario(
     laws: &FlasherLaws,
     p: &SheetParams,
 ) -> Result<(String, FlasherReport), String> {
-    let f = flasher(shape)?;
+    let mut f = flasher(shape)?;
+    let outermost = f.layers.iter().flatten().map(|l| l.1).max();
+    let layers = (p.thickness > 0.0).then_some(()).and(outermost).map(|l| (p.thickness, l));
+    // Thick panels: each stowed in its layer, its mid-plane (layer + ½) thicknesses out from
+    // its wall; the hinges take up what the layers do not match.
+    if p.thickness > 0.0 {
+        f.sheet.stowed_offsets = f
+            .layers
+            .iter()
+            .map(|l| l.map_or(Vec3::zeros(), |(n, layer)| n * ((layer as f64 + 0.5) * p.thickness)))
+            .collect();
+    }
     let law = |a: usize, b: usize| {
         let (k_fold, c_fold) = match f.kinds.get(&(a.min(b), a.max(b))) {
             Some(CreaseKind::Diagonal) => (laws.k_bending, laws.c_bending),
@@ -479,7 +531,13 @@ pub fn flasher_scenario(
             c_fold,
         }
     };
-    let (text, sheet) = sheet_scenario(&f.sheet, law, p)?;
+    let (mut text, sheet) = sheet_scenario(&f.sheet, law, p)?;
+    if p.thickness > 0.0 {
+        // Thick panels stowed in layers: contact keeps them from passing through each other
+        // (docs/contact.md); the values are a starting point, the report of a run says
+        // whether the penetration stays a small part of the thickness.
+        text.push_str(CONTACT_DEFAULTS);
+    }
     let strain_energy = sheet
         .strains
         .iter()
@@ -488,7 +546,7 @@ pub fn flasher_scenario(
                 + 0.5 * laws.k_rotation * (s.pitch.powi(2) + s.roll.powi(2))
         })
         .sum();
-    Ok((text, FlasherReport { shape: *shape, geometry: f.geometry, sheet, strain_energy }))
+    Ok((text, FlasherReport { shape: *shape, geometry: f.geometry, sheet, strain_energy, layers }))
 }
 
 impl FlasherReport {
@@ -536,6 +594,14 @@ impl FlasherReport {
                     self.strain_energy
                 );
             }
+        }
+        if let Some((h, outer)) = self.layers {
+            let _ = writeln!(
+                out,
+                "thickness {h} m: stowed in nested layers 0 to {outer} out from the prism walls, face to face (gap 0 between layers), the package {:.6} m across; the hinges take up the layers' offsets (the stowed strain above)",
+                self.geometry.stowed_diameter
+                    + 2.0 * (outer as f64 + 1.0) * h / (std::f64::consts::PI / self.shape.gores as f64).cos()
+            );
         }
         let mut folds: Vec<f64> = s.strains.iter().map(|f| f.fold.to_degrees()).collect();
         folds.sort_by(f64::total_cmp);

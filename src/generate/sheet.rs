@@ -37,6 +37,9 @@ pub struct Sheet {
     /// folded flat (±180°) when stowed, which the two states alone cannot tell apart; where
     /// given for other creases it is checked.
     pub senses: BTreeMap<(usize, usize), Sense>,
+    /// Per panel, a translation added to its stowed pose, m (thick panels stacked in layers);
+    /// empty for none.
+    pub stowed_offsets: Vec<Vec3>,
 }
 
 /// Which way a crease folds, seen from the sheet's top (the side its deployed panels' normals
@@ -209,7 +212,8 @@ pub fn sheet_scenario(
             report.panel_strain = report.panel_strain.max((r * x + t - s).norm());
         }
         deployed_pose.push((centroid, frame));
-        stowed_pose.push((r * centroid + t, r * frame));
+        let offset = sheet.stowed_offsets.get(k).copied().unwrap_or_else(Vec3::zeros);
+        stowed_pose.push((r * centroid + t + offset, r * frame));
     }
     // Creases: edges two panels share (key: the edge's nodes, lower first; value: the panels).
     let mut edges: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
@@ -442,7 +446,7 @@ mod tests {
         let turn = Euler321::new(0.0, 120f64.to_radians(), 0.0).to_dcm().transpose();
         let stowed = deployed.iter().map(|p| if p.x < 0.0 { turn * p } else { *p }).collect();
         let panels = vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5], vec![0, 5, 6, 7], vec![0, 7, 8, 1]];
-        Sheet { deployed, stowed, panels, senses: BTreeMap::new() }
+        Sheet { deployed, stowed, panels, senses: BTreeMap::new(), stowed_offsets: Vec::new() }
     }
 
     /// The scenario starts exactly in the stowed state: every panel's centroid where the

@@ -117,19 +117,7 @@ fn thick_flasher_stows_in_layers_without_overlap() {
     let dir = common::tmp("contact", "thick-flasher");
     let path = dir.join("thick.toml");
     let status = common::foldsim()
-        .args([
-            "generate",
-            "flasher",
-            "--gores",
-            "6",
-            "--rings",
-            "3",
-            "--thickness",
-            "0.01",
-            "--k-translation",
-            "1e3",
-            "-o",
-        ])
+        .args("generate flasher --gores 6 --rings 3 --thickness 0.01 --k-translation 1e3 -o".split(' '))
         .arg(&path)
         .output()
         .unwrap();

@@ -151,3 +151,17 @@ fn thick_flasher_stows_in_layers_without_overlap() {
     );
     assert!(worst.0 < 1e-9, "{worst:?}");
 }
+
+/// With thick panels the hub is a solid prism whose inertia follows from its mass and shape:
+/// a hub inertia given as well is refused, naming both options.
+#[test]
+fn thick_flasher_refuses_a_hub_inertia() {
+    let dir = common::tmp("contact", "thick-hub");
+    let out = common::foldsim()
+        .args("generate flasher --gores 6 --rings 2 --thickness 0.01 --hub-inertia 1,1,2 -o".split(' '))
+        .arg(dir.join("x.toml"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("hub-inertia") && err.contains("thickness"), "{err}");
+}

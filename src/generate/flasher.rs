@@ -276,7 +276,7 @@ pub fn flasher(shape: &FlasherShape) -> Result<Flasher, String> {
         }
     }
     Ok(Flasher {
-        sheet: Sheet { deployed, stowed, panels, senses, stowed_offsets: Vec::new() },
+        sheet: Sheet { deployed, stowed, panels, senses, stowed_offsets: Vec::new(), hub_height: 0.0 },
         kinds,
         geometry,
         layers,
@@ -497,7 +497,7 @@ pub struct FlasherReport {
 }
 
 /// The `[contact]` table written with thick panels.
-pub const CONTACT_DEFAULTS: &str = "\n# Thick panels: contact between every pair of bodies (docs/contact.md).\n[contact]\nstiffness = 1e7       # N/m^1.5 per contact point\nrestitution = 0.3\nfriction = 0.2\n";
+pub const CONTACT_DEFAULTS: &str = "\n# Thick panels: contact between every pair of bodies (docs/contact.md).\n[contact]\nstiffness = 1e8       # N/m^1.5 per contact point\nrestitution = 0.3\nfriction = 0.2\n";
 
 /// Builds the scenario text of a flasher and its report.
 pub fn flasher_scenario(
@@ -511,6 +511,7 @@ pub fn flasher_scenario(
     // Thick panels: each stowed in its layer, its mid-plane (layer + ½) thicknesses out from
     // its wall; the hinges take up what the layers do not match.
     if p.thickness > 0.0 {
+        f.sheet.hub_height = f.geometry.stowed_height;
         f.sheet.stowed_offsets = f
             .layers
             .iter()

@@ -321,6 +321,14 @@ impl FlasherOptions {
             at_least_zero(v, key, unit, name)?;
         }
         let r = self.hub_radius;
+        if self.thickness > 0.0 && self.hub_inertia.is_some() {
+            return Err(format!(
+                "{} does not apply with {} > 0: the hub is then a solid prism over its polygon, as tall as the stowed wrap, and its inertia follows from {} and that shape",
+                name("hub_inertia"),
+                name("thickness"),
+                name("hub_mass")
+            ));
+        }
         let hub_inertia = match self.hub_inertia {
             Some(v) => {
                 for (i, &x) in v.iter().enumerate() {

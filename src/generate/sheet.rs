@@ -40,6 +40,10 @@ pub struct Sheet {
     /// Per panel, a translation added to its stowed pose, m (thick panels stacked in layers);
     /// empty for none.
     pub stowed_offsets: Vec<Vec3>,
+    /// With thick panels, the hub's height, m: the hub is then a solid prism over its polygon
+    /// on the top side of the sheet (its mass from the hub mass, its inertia from the shape);
+    /// 0 for a hub with the given mass and inertia and no shape.
+    pub hub_height: f64,
 }
 
 /// Which way a crease folds, seen from the sheet's top (the side its deployed panels' normals
@@ -211,8 +215,10 @@ pub fn sheet_scenario(
         for (x, s) in world.iter().zip(&stowed) {
             report.panel_strain = report.panel_strain.max((r * x + t - s).norm());
         }
-        deployed_pose.push((centroid, frame));
         let offset = sheet.stowed_offsets.get(k).copied().unwrap_or_else(Vec3::zeros);
+        // A hub prism's centre of mass is half its height above the sheet.
+        let centroid = if k == 0 { centroid + frame.column(2) * (0.5 * sheet.hub_height) } else { centroid };
+        deployed_pose.push((centroid, frame));
         stowed_pose.push((r * centroid + t + offset, r * frame));
     }
     // Creases: edges two panels share (key: the edge's nodes, lower first; value: the panels).
@@ -274,7 +280,25 @@ pub fn sheet_scenario(
     for (k, vertices) in local.iter().enumerate() {
         let polygon: Vec<String> = vertices.iter().map(|v| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z)).collect();
         let _ = writeln!(out, "[[body]]\nname = \"{}\"", name(k));
-        if k == 0 {
+        if k == 0 && sheet.hub_height > 0.0 {
+            // The prism over the hub's polygon (its local vertices are in the plane through
+            // its centre of mass), mass per unit area so that its mass is the hub's.
+            let area = 0.5
+                * (0..vertices.len())
+                    .map(|i| {
+                        let (a, b) = (vertices[i], vertices[(i + 1) % vertices.len()]);
+                        a.x * b.y - b.x * a.y
+                    })
+                    .sum::<f64>()
+                    .abs();
+            let _ = writeln!(
+                out,
+                "shape = {{ polygon = [{}], thickness = {:?} }}\ndensity = {:?}\n",
+                polygon.join(", "),
+                sheet.hub_height,
+                p.hub_mass / area
+            );
+        } else if k == 0 {
             let [a, b, c] = p.hub_inertia;
             let _ = writeln!(out, "mass = {:?}\ninertia = [{a:?}, {b:?}, {c:?}]\n", p.hub_mass);
         } else {
@@ -446,7 +470,7 @@ mod tests {
         let turn = Euler321::new(0.0, 120f64.to_radians(), 0.0).to_dcm().transpose();
         let stowed = deployed.iter().map(|p| if p.x < 0.0 { turn * p } else { *p }).collect();
         let panels = vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5], vec![0, 5, 6, 7], vec![0, 7, 8, 1]];
-        Sheet { deployed, stowed, panels, senses: BTreeMap::new(), stowed_offsets: Vec::new() }
+        Sheet { deployed, stowed, panels, senses: BTreeMap::new(), stowed_offsets: Vec::new(), hub_height: 0.0 }
     }
 
     /// The scenario starts exactly in the stowed state: every panel's centroid where the

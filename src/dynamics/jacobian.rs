@@ -90,6 +90,9 @@ pub struct ConstraintRow {
     pub d_twist: [[f64; 6]; 2],
 }
 
+/// A body pair and its two bodies' motions seeded at lanes 0..13 and 13..26.
+type SeededPair = ((usize, usize), BodyMotion<D>, BodyMotion<D>);
+
 /// The 26 derivatives of a dual number.
 fn lanes(x: &D) -> SMatrix<f64, 26, 1> {
     x.eps.unwrap_generic(Const::<26>, U1)
@@ -155,18 +158,26 @@ impl ExactJacobian for Dynamics<'_> {
         // point's impact speed held (crate::contact::ContactSet::point_force).
         if let Some(set) = &model.contact {
             let memory = self.contact_memory();
+            // The points come grouped by pair: the two seeded motions once per pair.
+            let mut seeded_pair: Option<SeededPair> = None;
             for p in self.contact_points(y) {
                 let (a, b) = (p.key.body as usize, p.key.other as usize);
                 let Some((sample, solid)) = set.sample_and_solid(&p.key) else { continue };
-                let ma = BodyMotion::<D>::from_body_state(&seeded(body(a), 0));
-                let mb = BodyMotion::<D>::from_body_state(&seeded(body(b), B));
+                if seeded_pair.as_ref().is_none_or(|s| s.0 != (a, b)) {
+                    seeded_pair = Some((
+                        (a, b),
+                        BodyMotion::<D>::from_body_state(&seeded(body(a), 0)),
+                        BodyMotion::<D>::from_body_state(&seeded(body(b), B)),
+                    ));
+                }
+                let Some((_, ma, mb)) = &seeded_pair else { continue };
                 let frame = |m: &BodyMotion<D>| Frame {
                     position_in_n: m.r_in_n,
                     dcm_n_b: m.dcm_n_b,
                     velocity_in_n: m.v_in_n,
                     omega_in_n: m.omega_in_n,
                 };
-                let Some(f) = set.point_force(sample, solid, &frame(&ma), &frame(&mb), memory.get(&p.key).copied())
+                let Some(f) = set.point_force(sample, solid, &frame(ma), &frame(mb), memory.get(&p.key).copied())
                 else {
                     continue;
                 };

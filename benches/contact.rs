@@ -16,7 +16,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod common;
-use common::load;
+use common::{load, repeat_arg};
 
 /// The starshade example deployed and flapping, panels 1 cm thick, with `contact` appended.
 fn starshade(contact: &str) -> Scenario {
@@ -36,12 +36,7 @@ fn main() {
         );
         return;
     }
-    let repeat: usize = args
-        .iter()
-        .position(|a| a == "--repeat")
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(3);
+    let repeat = repeat_arg(&args);
     let plain = starshade("");
     let with = starshade("\n[contact]\nstiffness = 1e8\nrestitution = 0.5\nfriction = 0.3\n");
     let samples: usize =

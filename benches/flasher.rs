@@ -24,7 +24,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod common;
-use common::load;
+use common::{load, repeat_arg};
 
 /// Seconds per call of `f`, over at least 0.5 s.
 fn per_call(mut f: impl FnMut()) -> f64 {
@@ -44,12 +44,7 @@ fn main() {
         );
         return;
     }
-    let repeat: usize = args
-        .iter()
-        .position(|a| a == "--repeat")
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(3);
+    let repeat = repeat_arg(&args);
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/flasher-starshade.toml");
     let s = Scenario::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
     println!("load average before: {}", load());

@@ -20,17 +20,16 @@ fn impact_text(speed: f64, gap: f64, contact: &str, duration: f64, output_step: 
     impact_with_slide(speed, 0.0, gap, contact, duration, output_step)
 }
 
-/// The text of [`impact`].
-fn impact_with_slide(speed: f64, slide: f64, gap: f64, contact: &str, duration: f64, output_step: f64) -> String {
-    let z = 0.1 + 0.05 + gap;
+/// A 1-kg cube (0.1 m) whose centre is `z` m above the centre of an 800-kg slab (2 × 2 ×
+/// 0.2 m), joined to it by hinge `hinge` whose z direction is `z_law` and every other
+/// direction free; `run` the `[run]` tolerances and times, `extra` the initial state and
+/// `[contact]` tables.
+fn slab_and_cube(run: &str, hinge: &str, z: f64, z_law: &str, extra: &str) -> String {
     format!(
         r#"
 [run]
-duration = {duration}
-output_step = {output_step}
 integrator = "dop853"
-rtol = 1e-11
-atol = 1e-13
+{run}
 
 [[body]]
 name = "slab"
@@ -43,20 +42,25 @@ shape = {{ box = [0.1, 0.1, 0.1] }}
 density = 1000.0
 
 [[hinge]]
-name = "free"
+name = "{hinge}"
 parent = "slab"
 child = "cube"
 a0 = {{ position = [0.0, 0.0, {z}] }}
 a = {{ child_com = [0.0, 0.0, 0.0] }}
-law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free", z = "free", rx = "free", ry = "free", rz = "free" }}
+law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free", z = {z_law}, rx = "free", ry = "free", rz = "free" }}
+{extra}
+"#
+    )
+}
 
-[initial.hinge.free]
-delta_rate = [{slide}, 0.0, {v}]
-
-[contact]
-{contact}
-"#,
-        v = -speed
+/// The text of [`impact`].
+fn impact_with_slide(speed: f64, slide: f64, gap: f64, contact: &str, duration: f64, output_step: f64) -> String {
+    slab_and_cube(
+        &format!("duration = {duration}\noutput_step = {output_step}\nrtol = 1e-11\natol = 1e-13"),
+        "free",
+        0.1 + 0.05 + gap,
+        "\"free\"",
+        &format!("[initial.hinge.free]\ndelta_rate = [{slide}, 0.0, {}]\n\n[contact]\n{contact}", -speed),
     )
 }
 
@@ -223,43 +227,14 @@ fn sliding_block_dissipates_mu_n_distance() {
     let normal = k_spring * preload;
     let depth = (normal / (POINTS * k)).powf(1.0 / 1.5);
     let z = 0.1 + 0.05 - depth;
-    let text = format!(
-        r#"
-[run]
-duration = 2.0
-output_step = 0.01
-integrator = "dop853"
-rtol = 1e-10
-atol = 1e-12
-
-[[body]]
-name = "slab"
-shape = {{ box = [2.0, 2.0, 0.2] }}
-density = 1000.0
-
-[[body]]
-name = "cube"
-shape = {{ box = [0.1, 0.1, 0.1] }}
-density = 1000.0
-
-[[hinge]]
-name = "press"
-parent = "slab"
-child = "cube"
-a0 = {{ position = [0.0, 0.0, {z}] }}
-a = {{ child_com = [0.0, 0.0, 0.0] }}
-law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free", z = {{ k = {k_spring}, rest = {rest} }}, rx = "free", ry = "free", rz = "free" }}
-
-[initial.hinge.press]
-delta_rate = [{slide}, 0.0, 0.0]
-
-[contact]
-stiffness = {k}
-restitution = 0.5
-friction = {mu}
-allow_initial_overlap = true
-"#,
-        rest = -preload
+    let text = slab_and_cube(
+        "duration = 2.0\noutput_step = 0.01\nrtol = 1e-10\natol = 1e-12",
+        "press",
+        z,
+        &format!("{{ k = {k_spring}, rest = {} }}", -preload),
+        &format!(
+            "[initial.hinge.press]\ndelta_rate = [{slide}, 0.0, 0.0]\n\n[contact]\nstiffness = {k}\nrestitution = 0.5\nfriction = {mu}\nallow_initial_overlap = true"
+        ),
     );
     let s = Scenario::from_toml(&text, "slide.toml").unwrap_or_else(|e| panic!("{e}"));
     let (_, obs, _) = run(&s);
@@ -295,37 +270,12 @@ allow_initial_overlap = true
 #[test]
 fn bad_contact_input_is_refused() {
     let base = |contact: &str, gap: f64| {
-        let z = 0.15 + gap;
-        format!(
-            r#"
-[run]
-duration = 0.1
-output_step = 0.01
-integrator = "dop853"
-rtol = 1e-9
-atol = 1e-12
-
-[[body]]
-name = "slab"
-shape = {{ box = [2.0, 2.0, 0.2] }}
-density = 1000.0
-
-[[body]]
-name = "cube"
-shape = {{ box = [0.1, 0.1, 0.1] }}
-density = 1000.0
-
-[[hinge]]
-name = "free"
-parent = "slab"
-child = "cube"
-a0 = {{ position = [0.0, 0.0, {z}] }}
-a = {{ child_com = [0.0, 0.0, 0.0] }}
-law = {{ type = "directional", angles = "rotation-vector", x = "free", y = "free", z = "free", rx = "free", ry = "free", rz = "free" }}
-
-[contact]
-{contact}
-"#
+        slab_and_cube(
+            "duration = 0.1\noutput_step = 0.01\nrtol = 1e-9\natol = 1e-12",
+            "free",
+            0.15 + gap,
+            "\"free\"",
+            &format!("[contact]\n{contact}"),
         )
     };
     let refused = |text: String, words: &[&str]| {

@@ -7,3 +7,9 @@ pub fn load() -> String {
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_default()
 }
+
+/// The value of `--repeat N` among the bench's arguments (default 3).
+#[allow(dead_code)]
+pub fn repeat_arg(args: &[String]) -> usize {
+    args.iter().position(|a| a == "--repeat").and_then(|i| args.get(i + 1)).and_then(|v| v.parse().ok()).unwrap_or(3)
+}

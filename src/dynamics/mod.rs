@@ -211,25 +211,20 @@ impl<'m> Dynamics<'m> {
         }
     }
 
-    /// Per body: whether it touched another body at an accepted step since the last call
-    /// (or at state `y`, where the caller stands now); then starts again.
-    pub fn take_touched(&self, y: &[f64]) -> Vec<bool> {
+    /// Contact at an output row `y` (one evaluation), `None` without contact: what its points
+    /// add up to, and per body whether it touched another at an accepted step since the last
+    /// row or touches at `y` (the record then starts again).
+    pub fn row_contact(&self, y: &[f64]) -> Option<(ContactSummary, Vec<bool>)> {
+        self.model.contact.as_ref()?;
+        let points = self.contact_points(y);
         let mut touched = std::mem::replace(&mut *self.touched.borrow_mut(), vec![false; self.model.bodies.len()]);
-        for p in self.contact_points(y) {
-            touched[p.key.body as usize] = true;
-            touched[p.key.other as usize] = true;
-        }
-        touched
+        mark_touched(&points, &mut touched);
+        Some((ContactSummary::of(&points), touched))
     }
 
     /// Contact over the run so far (at accepted steps).
     pub fn contact_record(&self) -> ContactRecord {
         *self.contact_record.borrow()
-    }
-
-    /// What the contacts at state `y` add up to.
-    pub fn contact_summary(&self, y: &[f64]) -> ContactSummary {
-        ContactSummary::of(&self.contact_points(y))
     }
 
     /// Brings the contact memory up to the accepted state `y`: a point newly in contact
@@ -241,11 +236,7 @@ impl<'m> Dynamics<'m> {
         self.refresh_proximity(y);
         let points = self.contact_points(y);
         self.contact_record.borrow_mut().record(t, &points);
-        let mut touched = self.touched.borrow_mut();
-        for p in &points {
-            touched[p.key.body as usize] = true;
-            touched[p.key.other as usize] = true;
-        }
+        mark_touched(&points, &mut self.touched.borrow_mut());
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {
@@ -412,6 +403,14 @@ impl<'m> Dynamics<'m> {
             // system (redundant locks) is refused when the run starts.
             let _ = constrain_accelerations(model, rows, motions, dydt, work);
         }
+    }
+}
+
+/// Marks both bodies of every point as touching.
+fn mark_touched(points: &[ContactPoint], touched: &mut [bool]) {
+    for p in points {
+        touched[p.key.body as usize] = true;
+        touched[p.key.other as usize] = true;
     }
 }
 

@@ -638,25 +638,8 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
             (rotations, json::animation::Property::Rotation, json::accessor::Type::Vec4),
         ] {
             let output = bin.accessor(&mut root, &values, type_, times.len(), None, false);
-            let sampler = json::Index::new(samplers.len() as u32);
-            samplers.push(json::animation::Sampler {
-                extensions: None,
-                extras: Default::default(),
-                input,
-                interpolation: Valid(json::animation::Interpolation::Linear),
-                output,
-            });
-            channels.push(json::animation::Channel {
-                sampler,
-                target: json::animation::Target {
-                    extensions: None,
-                    extras: Default::default(),
-                    node: *node,
-                    path: Valid(path),
-                },
-                extensions: None,
-                extras: Default::default(),
-            });
+            let linear = json::animation::Interpolation::Linear;
+            channel(&mut samplers, &mut channels, (input, output, linear), *node, path);
         }
     }
     // Contact: each body's red copy scaled 1 (a little more, to cover it) while it touches
@@ -665,25 +648,8 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
         for (track, node) in tracks.iter().zip(&contact_nodes) {
             let values: Vec<f32> = track.iter().flat_map(|&t| [if t { CONTACT_SCALE } else { 0.0 }; 3]).collect();
             let output = bin.accessor(&mut root, &values, json::accessor::Type::Vec3, times.len(), None, false);
-            let sampler = json::Index::new(samplers.len() as u32);
-            samplers.push(json::animation::Sampler {
-                extensions: None,
-                extras: Default::default(),
-                input,
-                interpolation: Valid(json::animation::Interpolation::Step),
-                output,
-            });
-            channels.push(json::animation::Channel {
-                sampler,
-                target: json::animation::Target {
-                    extensions: None,
-                    extras: Default::default(),
-                    node: *node,
-                    path: Valid(json::animation::Property::Scale),
-                },
-                extensions: None,
-                extras: Default::default(),
-            });
+            let step = json::animation::Interpolation::Step;
+            channel(&mut samplers, &mut channels, (input, output, step), *node, json::animation::Property::Scale);
         }
     }
     root.push(json::Animation {
@@ -701,6 +667,35 @@ pub fn glb_bytes(model: &Model, frames: &Frames) -> Result<Vec<u8>, String> {
         extras: Default::default(),
     });
     Ok(glb_container(&root.to_vec().map_err(|e| format!("cannot encode the glTF JSON: {e}"))?, &bin.data))
+}
+
+/// Adds an animation channel driving `path` of `node` by a sampler over (input times,
+/// output values, interpolation).
+fn channel(
+    samplers: &mut Vec<json::animation::Sampler>,
+    channels: &mut Vec<json::animation::Channel>,
+    (input, output, interpolation): (
+        json::Index<json::Accessor>,
+        json::Index<json::Accessor>,
+        json::animation::Interpolation,
+    ),
+    node: json::Index<json::Node>,
+    path: json::animation::Property,
+) {
+    let sampler = json::Index::new(samplers.len() as u32);
+    samplers.push(json::animation::Sampler {
+        extensions: None,
+        extras: Default::default(),
+        input,
+        interpolation: Valid(interpolation),
+        output,
+    });
+    channels.push(json::animation::Channel {
+        sampler,
+        target: json::animation::Target { extensions: None, extras: Default::default(), node, path: Valid(path) },
+        extensions: None,
+        extras: Default::default(),
+    });
 }
 
 /// A quaternion (w, x, y, z) as glTF's (x, y, z, w) in f32, normalized after rounding.

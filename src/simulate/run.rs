@@ -101,8 +101,10 @@ impl OutputTimes {
 
 impl StreamOut<'_, '_, '_, '_> {
     fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
-        let contact = self.dynamics.model().contact.as_ref().map(|_| self.dynamics.contact_summary(y));
-        let touched = if contact.is_some() { self.dynamics.take_touched(y) } else { Vec::new() };
+        let (contact, touched) = match self.dynamics.row_contact(y) {
+            Some((summary, touched)) => (Some(summary), touched),
+            None => (None, Vec::new()),
+        };
         let mut o = self.observer.observe(
             self.dynamics.model(),
             t,

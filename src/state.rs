@@ -81,3 +81,15 @@ pub fn state_from_motions(model: &Model, motions: &[BodyMotion]) -> State {
     }
     y
 }
+
+impl<T: Real> BodyMotion<T> {
+    /// The body's pose and velocity as contact takes them ([`crate::contact::Frame`]).
+    pub fn contact_frame(&self) -> crate::contact::Frame<T> {
+        crate::contact::Frame {
+            position_in_n: self.r_in_n,
+            dcm_n_b: self.dcm_n_b,
+            velocity_in_n: self.v_in_n,
+            omega_in_n: self.omega_in_n,
+        }
+    }
+}

@@ -18,7 +18,6 @@
 
 use super::Dynamics;
 use super::locks::{Lock, hinge_rows};
-use crate::contact::Frame;
 use crate::kinematics::hinge_kinematics;
 use crate::law::JacobianDual as D;
 use crate::math::{lift, re, real};
@@ -171,14 +170,8 @@ impl ExactJacobian for Dynamics<'_> {
                     ));
                 }
                 let Some((_, ma, mb)) = &seeded_pair else { continue };
-                let frame = |m: &BodyMotion<D>| Frame {
-                    position_in_n: m.r_in_n,
-                    dcm_n_b: m.dcm_n_b,
-                    velocity_in_n: m.v_in_n,
-                    omega_in_n: m.omega_in_n,
-                };
-                let Some(f) = set.point_force(sample, solid, &frame(ma), &frame(mb), memory.get(&p.key).copied())
-                else {
+                let (fa, fb) = (ma.contact_frame(), mb.contact_frame());
+                let Some(f) = set.point_force(sample, solid, &fa, &fb, memory.get(&p.key).copied()) else {
                     continue;
                 };
                 let on_a = (f.force_in_n, (f.point_in_n - ma.r_in_n).cross(&f.force_in_n));

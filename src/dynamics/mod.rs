@@ -417,7 +417,7 @@ fn mark_touched(points: &[ContactPoint], touched: &mut [bool]) {
 /// Every body's frame for contact from its motion.
 fn fill_frames(motions: impl Iterator<Item = BodyMotion>, frames: &mut [Frame]) {
     for (f, m) in frames.iter_mut().zip(motions) {
-        *f = Frame { position_in_n: m.r_in_n, dcm_n_b: m.dcm_n_b, velocity_in_n: m.v_in_n, omega_in_n: m.omega_in_n };
+        *f = m.contact_frame();
     }
 }
 

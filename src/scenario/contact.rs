@@ -85,7 +85,7 @@ pub(super) fn enable(
         let frames: Vec<Frame> = (0..model.bodies.len())
             .map(|i| {
                 let m = BodyMotion::from_state(&y0, i);
-                Frame { position_in_n: m.r_in_n, dcm_n_b: m.dcm_n_b, velocity_in_n: m.v_in_n, omega_in_n: m.omega_in_n }
+                m.contact_frame()
             })
             .collect();
         // Round-off in placing the bodies along the tree leaves overlaps of ~1e-16 m where

@@ -226,6 +226,7 @@ impl Scenario {
         d.set_item("wall_seconds", report.wall_seconds)?;
         d.set_item("steps_accepted", report.steps_accepted)?;
         d.set_item("steps_rejected", report.steps_rejected)?;
+        d.set_item("newton_failures", report.newton_failures)?;
         d.set_item("rhs_evaluations", report.rhs_evaluations)?;
         d.set_item("newton_iterations", report.newton_iterations)?;
         d.set_item("jacobians", report.jacobians)?;

@@ -67,6 +67,21 @@ pub struct PointForce<T: nalgebra::Scalar> {
     pub dissipation: T,
 }
 
+/// One sample's contact in the frame of the body it penetrates (B), in any scalar.
+#[derive(Clone, Copy, Debug)]
+pub struct LocalForce<T: nalgebra::Scalar> {
+    /// B's outward normal at the sample, B frame.
+    pub normal_in_b: Vector3<T>,
+    /// Penetration, m.
+    pub depth: T,
+    /// Its rate, m/s (> 0 approaching).
+    pub rate: T,
+    /// Force on the sample's body, N, B frame.
+    pub force_in_b: Vector3<T>,
+    /// Power dissipated by damping and friction, W.
+    pub dissipation: T,
+}
+
 /// Which sample of which body is inside which other body.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct PointKey {
@@ -204,7 +219,10 @@ impl ContactSet {
                 .collect();
             let touching: Vec<Vec3> =
                 so.samples.iter().zip(&marks).filter(|(_, m)| **m).map(|(s, _)| s.point_in_body).collect();
-            if !collinear(&touching) {
+            // A thin plate's crease samples are its rim spheres (radius t/2, on the mid-plane)
+            // and, at a sharp tip, points on both faces: a line within the plate's thickness.
+            let width = 2.0 * so.samples.iter().map(|s| s.radius).fold(0.0, f64::max);
+            if !collinear(&touching, width) {
                 continue;
             }
             count += touching.len();
@@ -368,7 +386,7 @@ impl ContactSet {
                 return;
             }
             let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-            let Some(f) = self.point_force(s, sb, fa, fb, memory.get(&key).copied()) else { return };
+            let Some(f) = self.point_force_at(s, sb, fa, fb, &p, memory.get(&key).copied()) else { return };
             out.push(ContactPoint {
                 key,
                 point_in_n: f.point_in_n,
@@ -384,36 +402,91 @@ impl ContactSet {
 
     /// The contact of `sample` (of the body at `fa`) in `solid` (of the body at `fb`), if it
     /// penetrates: the law at the sample's centre, for a point that came into contact at
-    /// `impact_speed` (m/s; `None`: its approach speed now). Generic over the scalar: the
-    /// exact Jacobian differentiates this same code (with the impact speed held).
-    pub fn point_force<T: Real>(
+    /// `impact_speed` (m/s; `None`: its approach speed now). The law itself is
+    /// [`ContactSet::local_force`], in the probed body's frame.
+    pub fn point_force(
         &self,
         sample: &Sample,
         solid: &Solid,
-        fa: &Frame<T>,
-        fb: &Frame<T>,
+        fa: &Frame,
+        fb: &Frame,
         impact_speed: Option<f64>,
-    ) -> Option<PointForce<T>> {
-        let point = fa.position_in_n + fa.dcm_n_b * sample.point_in_body.map(real::<T>);
-        let (d, n_b) = solid.signed_distance(&(fb.dcm_n_b.transpose() * (point - fb.position_in_n)));
+    ) -> Option<PointForce<f64>> {
+        let point_in_b =
+            fb.dcm_n_b.transpose() * (fa.position_in_n + fa.dcm_n_b * sample.point_in_body - fb.position_in_n);
+        self.point_force_at(sample, solid, fa, fb, &point_in_b, impact_speed)
+    }
+
+    /// [`ContactSet::point_force`] with the sample's centre in `fb`'s body frame given (m).
+    fn point_force_at(
+        &self,
+        sample: &Sample,
+        solid: &Solid,
+        fa: &Frame,
+        fb: &Frame,
+        point_in_b: &Vec3,
+        impact_speed: Option<f64>,
+    ) -> Option<PointForce<f64>> {
+        let (d, normal_in_b) = solid.signed_distance(point_in_b);
+        let depth = sample.radius - d;
+        if depth <= 0.0 {
+            return None;
+        }
+        let point = fb.position_in_n + fb.dcm_n_b * point_in_b;
+        let velocity_in_b = fb.dcm_n_b.transpose() * (fa.velocity_at(&point) - fb.velocity_at(&point));
+        let f = self.law_at(depth, normal_in_b, &velocity_in_b, impact_speed);
+        Some(PointForce {
+            point_in_n: point,
+            normal_in_n: fb.dcm_n_b * normal_in_b,
+            depth,
+            rate: f.rate,
+            force_in_n: fb.dcm_n_b * f.force_in_b,
+            dissipation: f.dissipation,
+        })
+    }
+
+    /// The contact of `sample` (of body A) in `solid` (of body B) from where the sample's
+    /// centre is in B (`point_in_b`, m, B frame) and how fast it moves against B's material
+    /// point there (`velocity_in_b`, m/s, B frame), if it penetrates; for a point that came
+    /// into contact at `impact_speed` (m/s; `None`: its approach speed now). Generic over the
+    /// scalar: the exact Jacobian differentiates this same code in these six inputs (with the
+    /// impact speed held).
+    pub fn local_force<T: Real>(
+        &self,
+        sample: &Sample,
+        solid: &Solid,
+        point_in_b: &Vector3<T>,
+        velocity_in_b: &Vector3<T>,
+        impact_speed: Option<f64>,
+    ) -> Option<LocalForce<T>> {
+        let (d, normal_in_b) = solid.signed_distance(point_in_b);
         let depth = real::<T>(sample.radius) - d;
         if re(depth) <= 0.0 {
             return None;
         }
-        let normal = fb.dcm_n_b * n_b;
-        let v_rel = fa.velocity_at(&point) - fb.velocity_at(&point);
-        let rate = -normal.dot(&v_rel);
+        Some(self.law_at(depth, normal_in_b, velocity_in_b, impact_speed))
+    }
+
+    /// The law at penetration `depth` (m) along B's outward normal `normal_in_b` for a
+    /// sample moving at `velocity_in_b` against B (see [`ContactSet::local_force`]).
+    fn law_at<T: Real>(
+        &self,
+        depth: T,
+        normal_in_b: Vector3<T>,
+        velocity_in_b: &Vector3<T>,
+        impact_speed: Option<f64>,
+    ) -> LocalForce<T> {
+        let rate = -normal_in_b.dot(velocity_in_b);
         let nf = self.law.normal(depth, rate, impact_speed.unwrap_or(re(rate)));
-        let slip = v_rel + normal * rate;
+        let slip = velocity_in_b + normal_in_b * rate;
         let friction = self.law.friction_force(nf.normal, &slip);
-        Some(PointForce {
-            point_in_n: point,
-            normal_in_n: normal,
+        LocalForce {
+            normal_in_b,
             depth,
             rate,
-            force_in_n: normal * nf.normal + friction,
+            force_in_b: normal_in_b * nf.normal + friction,
             dissipation: nf.damping_power - friction.dot(&slip),
-        })
+        }
     }
 
     /// The sample `key` names and the solid it probes.
@@ -424,12 +497,12 @@ impl ContactSet {
     }
 }
 
-/// Whether `points` lie on one line, to 1 µm plus 1e-9 of their spread.
-fn collinear(points: &[Vec3]) -> bool {
+/// Whether `points` lie on one line, to 1 µm plus 1e-9 of their spread plus `width` (m).
+fn collinear(points: &[Vec3], width: f64) -> bool {
     let Some(&a) = points.first() else { return true };
     let Some(&b) = points.iter().max_by(|p, q| (*p - a).norm().total_cmp(&(*q - a).norm())) else { return true };
     let Some(dir) = (b - a).try_normalize(0.0) else { return true };
-    let tol = 1e-6 + 1e-9 * (b - a).norm();
+    let tol = 1e-6 + 1e-9 * (b - a).norm() + width;
     points.iter().all(|p| {
         let w = p - a;
         (w - dir * w.dot(&dir)).norm() <= tol

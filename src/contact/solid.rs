@@ -75,7 +75,8 @@ impl Solid {
     /// A plate: `vertices` (m, body frame, one plane, either way round) extruded by
     /// `thickness` (m, > 0) about their plane. A thin plate (thickness at most half its
     /// shortest edge) probes with spheres of radius thickness/2 along its outline, inset so
-    /// that they touch its faces and sides, one per thickness of outline; a thick one (a hub
+    /// that they touch its faces and sides, one per thickness of outline, and with points on
+    /// its faces' edges at an acute corner, where the rounded rim leaves the tip out; a thick one (a hub
     /// prism) with points on its top and bottom outlines and side edges, `spacing` m apart.
     pub fn plate(vertices: &[Vec3], thickness: f64, spacing: f64) -> Result<Self, String> {
         let n = vertices.len();
@@ -113,6 +114,9 @@ impl Solid {
                         let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
                         samples.push(Sample { point_in_body: to_body(p, 0.0), radius: h });
                     }
+                }
+                for p in tip_points(&polygon, h, thickness) {
+                    samples.push(Sample { point_in_body: to_body([p[0], p[1]], p[2]), radius: 0.0 });
                 }
             }
             None => {
@@ -358,6 +362,42 @@ pub fn polygon_distance<T: Real>(polygon: &[[f64; 2]], p: [T; 2]) -> (T, [T; 2])
         (real(0.0), [real(ey / l), real(-ex / l)])
     };
     if inside { (-dist, [-g[0], -g[1]]) } else { (dist, g) }
+}
+
+/// The sharp tips a thin plate's rounded rim leaves out (2-D polygon counter-clockwise,
+/// half-thickness `h`, spacing `t`): at a convex corner of interior angle α < 90° the rim's
+/// last sphere sits h / tan(α/2) from the vertex along each edge, so the tip before it is
+/// covered by points (radius 0) on both faces' edges from the vertex, `t` apart, and the
+/// vertex at mid-plane; returned as `[x, y, z]` in the polygon's plane frame.
+fn tip_points(polygon: &[[f64; 2]], h: f64, t: f64) -> Vec<[f64; 3]> {
+    let n = polygon.len();
+    let mut out = Vec::new();
+    for i in 0..n {
+        let (prev, v, next) = (polygon[(i + n - 1) % n], polygon[i], polygon[(i + 1) % n]);
+        let (u1, u2) = ([prev[0] - v[0], prev[1] - v[1]], [next[0] - v[0], next[1] - v[1]]);
+        let (l1, l2) = (u1[0].hypot(u1[1]), u2[0].hypot(u2[1]));
+        // Convex (counter-clockwise: next × prev > 0) and acute.
+        let cross = u2[0] * u1[1] - u2[1] * u1[0];
+        let cos = (u1[0] * u2[0] + u1[1] * u2[1]) / (l1 * l2);
+        if cross <= 0.0 || cos <= 0.0 {
+            continue;
+        }
+        let half_angle = 0.5 * cos.clamp(-1.0, 1.0).acos();
+        let reach = h / half_angle.tan();
+        out.push([v[0], v[1], 0.0]);
+        for (u, l) in [(u1, l1), (u2, l2)] {
+            let mut x = 0.0;
+            while x < reach.min(l) {
+                for z in [-h, h] {
+                    if x > 0.0 || u == u1 {
+                        out.push([v[0] + x * u[0] / l, v[1] + x * u[1] / l, z]);
+                    }
+                }
+                x += t;
+            }
+        }
+    }
+    out
 }
 
 /// The polygon (counter-clockwise) with every edge moved inwards by `r`: the vertex where

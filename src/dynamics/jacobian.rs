@@ -89,8 +89,93 @@ pub struct ConstraintRow {
     pub d_twist: [[f64; 6]; 2],
 }
 
-/// A body pair and its two bodies' motions seeded at lanes 0..13 and 13..26.
-type SeededPair = ((usize, usize), BodyMotion<D>, BodyMotion<D>);
+/// A body pair in contact (sample body A, probed body B): A's and B's motions seeded at lanes
+/// 0..13 and 13..26, what a sample's place and velocity in B need from them, and the contact
+/// force on A summed over the pair's points with its moments about each body's centre of
+/// mass (N, N·m, B frame).
+struct PairSum {
+    bodies: (usize, usize),
+    /// `[N B]`.
+    dcm_n_b: nalgebra::Matrix3<D>,
+    /// `[B N](R_A − R_B)`, m.
+    a_in_b: Vector3<D>,
+    /// `[B A]`.
+    dcm_b_a: nalgebra::Matrix3<D>,
+    /// `[B N](Ṙ_A − Ṙ_B)`, m/s.
+    velocity_a_in_b: Vector3<D>,
+    /// `[B N][ω_A×][N A]`, 1/s: a body-fixed offset's velocity from A's rotation, in B.
+    spin_a_in_b: nalgebra::Matrix3<D>,
+    /// `[B N]ω_B`, rad/s.
+    omega_b_in_b: Vector3<D>,
+    force_in_b: Vector3<D>,
+    moment_about_a_in_b: Vector3<D>,
+    moment_about_b_in_b: Vector3<D>,
+}
+
+impl PairSum {
+    fn new(bodies: (usize, usize), state_a: &[D; B], state_b: &[D; B]) -> Self {
+        let ma = BodyMotion::<D>::from_body_state(state_a);
+        let mb = BodyMotion::<D>::from_body_state(state_b);
+        let dcm_b_n = mb.dcm_n_b.transpose();
+        let spin = nalgebra::Matrix3::from_columns(
+            &[0, 1, 2].map(|j| ma.omega_in_n.cross(&ma.dcm_n_b.column(j).into_owned())),
+        );
+        let zero = Vector3::from_element(D::from_re(0.0));
+        Self {
+            bodies,
+            a_in_b: dcm_b_n * (ma.r_in_n - mb.r_in_n),
+            dcm_b_a: dcm_b_n * ma.dcm_n_b,
+            velocity_a_in_b: dcm_b_n * (ma.v_in_n - mb.v_in_n),
+            spin_a_in_b: dcm_b_n * spin,
+            omega_b_in_b: dcm_b_n * mb.omega_in_n,
+            dcm_n_b: mb.dcm_n_b,
+            force_in_b: zero,
+            moment_about_a_in_b: zero,
+            moment_about_b_in_b: zero,
+        }
+    }
+
+    /// Adds the contact of `sample` in `solid` (crate::contact::ContactSet::local_force): the
+    /// law differentiated in its six local inputs (the sample's place and velocity in B) by
+    /// dual numbers of six lanes, carried to the 26 state lanes by the chain rule, rather than
+    /// run in 26 lanes throughout.
+    fn add(
+        &mut self,
+        set: &crate::contact::ContactSet,
+        sample: &crate::contact::solid::Sample,
+        solid: &crate::contact::solid::Solid,
+        impact_speed: Option<f64>,
+    ) {
+        let s = sample.point_in_body;
+        let mut point = self.a_in_b;
+        let mut velocity = self.velocity_a_in_b;
+        for i in 0..3 {
+            for j in 0..3 {
+                point[i] += self.dcm_b_a[(i, j)] * s[j];
+                velocity[i] += self.spin_a_in_b[(i, j)] * s[j];
+            }
+        }
+        velocity -= self.omega_b_in_b.cross(&point);
+        let local = [point.x, point.y, point.z, velocity.x, velocity.y, velocity.z];
+        let seed: [D6; 6] = std::array::from_fn(|k| D6::from_re(local[k].re).derivative(k));
+        let (p6, v6) = (Vector3::new(seed[0], seed[1], seed[2]), Vector3::new(seed[3], seed[4], seed[5]));
+        let Some(f) = set.local_force(sample, solid, &p6, &v6, impact_speed) else { return };
+        let force = f.force_in_b.map(|c| {
+            let g = c.eps.unwrap_generic(Const::<6>, U1);
+            let mut x = D::from_re(c.re);
+            for (k, z) in local.iter().enumerate() {
+                x += (*z - D::from_re(z.re)) * g[k];
+            }
+            x
+        });
+        self.force_in_b += force;
+        self.moment_about_b_in_b += point.cross(&force);
+        self.moment_about_a_in_b += (point - self.a_in_b).cross(&force);
+    }
+}
+
+/// Dual numbers of the six local contact inputs (see [`PairSum::add`]).
+type D6 = num_dual::DualSVec64<6>;
 
 /// The 26 derivatives of a dual number.
 fn lanes(x: &D) -> SMatrix<f64, 26, 1> {
@@ -157,25 +242,15 @@ impl ExactJacobian for Dynamics<'_> {
         // point's impact speed held (crate::contact::ContactSet::point_force).
         if let Some(set) = &model.contact {
             let memory = self.contact_memory();
-            // The points come grouped by pair: the two seeded motions once per pair.
-            let mut seeded_pair: Option<SeededPair> = None;
-            for p in self.contact_points(y) {
-                let (a, b) = (p.key.body as usize, p.key.other as usize);
-                let Some((sample, solid)) = set.sample_and_solid(&p.key) else { continue };
-                if seeded_pair.as_ref().is_none_or(|s| s.0 != (a, b)) {
-                    seeded_pair = Some((
-                        (a, b),
-                        BodyMotion::<D>::from_body_state(&seeded(body(a), 0)),
-                        BodyMotion::<D>::from_body_state(&seeded(body(b), B)),
-                    ));
-                }
-                let Some((_, ma, mb)) = &seeded_pair else { continue };
-                let (fa, fb) = (ma.contact_frame(), mb.contact_frame());
-                let Some(f) = set.point_force(sample, solid, &fa, &fb, memory.get(&p.key).copied()) else {
-                    continue;
-                };
-                let on_a = (f.force_in_n, (f.point_in_n - ma.r_in_n).cross(&f.force_in_n));
-                let on_b = (-f.force_in_n, -(f.point_in_n - mb.r_in_n).cross(&f.force_in_n));
+            // The points come grouped by pair: the two seeded motions once per pair, and the
+            // pair's force and its moment about each body's centre summed over its points
+            // before the accelerations are formed (once per pair, not per point).
+            let mut pair: Option<PairSum> = None;
+            let flush = |sum: PairSum, hinge_blocks: &mut Vec<_>, torque_in_n: &mut Vec<Vector3<f64>>| {
+                let (a, b) = sum.bodies;
+                let force_in_n = sum.dcm_n_b * sum.force_in_b;
+                let on_a = (force_in_n, sum.dcm_n_b * sum.moment_about_a_in_b);
+                let on_b = (-force_in_n, -(sum.dcm_n_b * sum.moment_about_b_in_b));
                 for (body_index, (force, torque)) in [(a, on_a), (b, on_b)] {
                     torque_in_n[body_index] += torque.map(re);
                     let bd = &model.bodies[body_index];
@@ -186,6 +261,22 @@ impl ExactJacobian for Dynamics<'_> {
                     hinge_blocks.push((body_index, a, ax, av));
                     hinge_blocks.push((body_index, b, bx, bv));
                 }
+            };
+            for p in self.contact_points(y) {
+                let (a, b) = (p.key.body as usize, p.key.other as usize);
+                let Some((sample, solid)) = set.sample_and_solid(&p.key) else { continue };
+                if pair.as_ref().is_none_or(|s| s.bodies != (a, b)) {
+                    if let Some(done) = pair.take() {
+                        flush(done, &mut hinge_blocks, &mut torque_in_n);
+                    }
+                    pair = Some(PairSum::new((a, b), &seeded(body(a), 0), &seeded(body(b), B)));
+                }
+                if let Some(sum) = pair.as_mut() {
+                    sum.add(set, sample, solid, memory.get(&p.key).copied());
+                }
+            }
+            if let Some(done) = pair.take() {
+                flush(done, &mut hinge_blocks, &mut torque_in_n);
             }
         }
         for (i, j, dx, dv) in &hinge_blocks {

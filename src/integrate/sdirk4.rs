@@ -65,6 +65,10 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     // Whether h was set to land on an event (exempt from the step floor), and whether the
     // last rejection was for a non-finite Newton iteration.
     let (mut forced, mut non_finite) = (false, false);
+    // Whether the step before this one was rejected: a step accepted right after a rejection
+    // may not grow (Hairer & Wanner's RADAU5 and DOPRI codes), which keeps a step that Newton
+    // just failed from growing straight back into the failure.
+    let mut after_rejection = false;
     loop {
         let last = t + 1.01 * h >= tf;
         if last {
@@ -145,6 +149,8 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         }
         if !converged {
             stats.rejected += 1;
+            stats.newton_failures += 1;
+            after_rejection = true;
             forced = false;
             if fresh_jacobian {
                 // The Jacobian is current: shrink the step.
@@ -179,8 +185,12 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
         // A NaN error (an overflow in the stages) rejects the step (`max` would drop it).
         let e = norm(&err, &yi, rtol, atol);
         let e = if e.is_nan() { f64::INFINITY } else { e.max(1e-10) };
-        let factor = (0.9 * e.powf(-0.25)).clamp(0.2, 4.0);
+        let mut factor = (0.9 * e.powf(-0.25)).clamp(0.2, 4.0);
         if e <= 1.0 {
+            if after_rejection {
+                factor = factor.min(1.0);
+                after_rejection = false;
+            }
             stats.accepted += 1;
             (forced, non_finite) = (false, false);
             let t_prev = t;
@@ -237,6 +247,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             }
         } else {
             stats.rejected += 1;
+            after_rejection = true;
             (forced, non_finite) = (false, !e.is_finite());
             h *= factor.min(1.0);
         }

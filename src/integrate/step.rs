@@ -38,6 +38,9 @@ pub struct Stats {
     pub accepted: usize,
     /// Rejected steps.
     pub rejected: usize,
+    /// Of the rejected steps, those whose Newton iteration did not converge (implicit
+    /// methods); the others failed the error test.
+    pub newton_failures: usize,
     /// Right-hand-side evaluations.
     pub rhs_evaluations: usize,
     /// First time at which DOP853 found its step limited by stability rather than accuracy

@@ -62,6 +62,8 @@ pub struct RunReport {
     /// First time at which the explicit integrator found its step limited by stability (stiff
     /// hinges), if it did.
     pub stiff_from: Option<f64>,
+    /// Of the rejected steps, those rejected because Newton did not converge (implicit path).
+    pub newton_failures: usize,
     /// Newton iterations (implicit path; zero otherwise).
     pub newton_iterations: usize,
     /// Jacobians formed (implicit path).

@@ -549,6 +549,7 @@ pub fn simulate(
         deployed_start: out.deployed_range.0,
         deployed_max: out.deployed_range.1,
         newton_iterations: stats.newton_iterations,
+        newton_failures: stats.newton_failures,
         jacobians: stats.jacobians,
         refactorizations: stats.refactorizations,
         differenced_jacobians,

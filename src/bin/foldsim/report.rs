@@ -19,7 +19,16 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     );
     outln!("  simulated time   {:.6} s", r.simulated);
     outln!("  wall time        {:.3} s", r.wall_seconds);
-    outln!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
+    if r.newton_failures > 0 {
+        outln!(
+            "  steps            {} accepted, {} rejected ({} for Newton not converging)",
+            r.steps_accepted,
+            r.steps_rejected,
+            r.newton_failures
+        );
+    } else {
+        outln!("  steps            {} accepted, {} rejected", r.steps_accepted, r.steps_rejected);
+    }
     if r.drift.locks > 0 {
         outln!("  rhs evaluations  {} ({} solving for engaged locks)", r.rhs_evaluations, r.constrained_evaluations);
     } else {

@@ -4,9 +4,19 @@
 //! without, alternated, medians of `--repeat` each (default 3), with the machine's load. Also
 //! the cost of one right-hand side with and without contact at the start. The bound:
 //! with contact enabled and nothing touching, at most 1.5× the run without.
-//! Run: `cargo bench --bench contact` (`-- --repeat N`).
+//!
+//! Then full contact: the thick flasher example (`examples/flasher-thick.toml`, 5 gores, 2
+//! rings, 1-cm panels stowed in nested layers face to face) over its first 0.05 s, where
+//! every layer presses on the next: its steps (and of the rejected, Newton's), pairs and
+//! points in contact per accepted step, and where the time goes (unit costs at the stowed
+//! state times how many of each the run made: right-hand sides, of which the contact part
+//! is the difference to the same state without `[contact]`, Jacobians with factorization,
+//! Newton solves).
+//! Run: `cargo bench --bench contact` (`-- --repeat N`; `-- --full-only` for the second part).
 
 use foldsim::dynamics::Dynamics;
+use foldsim::dynamics::newton::GraphNewton;
+use foldsim::integrate::NewtonMatrix;
 use foldsim::integrate::OdeSystem;
 use foldsim::kinematics::initial_state;
 use foldsim::scenario::Scenario;
@@ -37,6 +47,108 @@ fn main() {
         return;
     }
     let repeat = repeat_arg(&args);
+    if !args.iter().any(|a| a == "--full-only") {
+        nothing_touching(repeat);
+    }
+    full_contact(repeat);
+}
+
+/// Seconds per call of `f`, over at least 0.5 s.
+fn per_call(mut f: impl FnMut()) -> f64 {
+    let (start, mut n) = (Instant::now(), 0u32);
+    while n < 3 || start.elapsed().as_secs_f64() < 0.5 {
+        f();
+        n += 1;
+    }
+    start.elapsed().as_secs_f64() / f64::from(n)
+}
+
+/// The thick flasher's stowed start in full contact (see the module documentation).
+fn full_contact(repeat: usize) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let text = std::fs::read_to_string(dir.join("flasher-thick.toml")).expect("example");
+    let text = text.replace("duration = 1.3", "duration = 0.05");
+    let s = Scenario::from_toml_in(&text, "flasher-thick-stowed", &dir).unwrap_or_else(|e| panic!("{e}"));
+    let bare = Scenario::from_toml_in(&text.split("\n[contact]").next().expect("text").to_string(), "bare", &dir)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let samples: usize =
+        s.model.contact.as_ref().map_or(0, |c| c.solids.iter().flatten().map(|s| s.samples.len()).sum());
+    println!("\nload average before: {}", load());
+    println!(
+        "full contact: examples/flasher-thick.toml's first 0.05 s ({} bodies, {samples} contact sample points), {}",
+        s.model.bodies.len(),
+        s.settings.integrator.name()
+    );
+    let (mut walls, mut report, mut per_row) = (Vec::new(), None, (0usize, 0usize, 0usize));
+    for _ in 0..repeat.max(1) {
+        let mut rows = (0usize, 0usize, 0usize);
+        let mut sink = |o: &foldsim::observe::Observation| -> Result<(), String> {
+            let c = o.contact.unwrap_or_default();
+            rows = (rows.0 + 1, rows.1 + c.pairs, rows.2 + c.points);
+            Ok(())
+        };
+        let start = Instant::now();
+        let r = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).unwrap_or_else(|e| panic!("{e}"));
+        walls.push(start.elapsed().as_secs_f64());
+        report = Some(r);
+        per_row = rows;
+    }
+    walls.sort_by(f64::total_cmp);
+    let wall = walls[walls.len() / 2];
+    let r = report.expect("ran");
+    println!("wall time {wall:.3} s (median of {}; all {walls:.3?}), load after: {}", walls.len(), load());
+    println!(
+        "steps {} accepted, {} rejected ({} for Newton not converging); Newton iterations {}; Jacobians {}; rhs evaluations {}",
+        r.steps_accepted, r.steps_rejected, r.newton_failures, r.newton_iterations, r.jacobians, r.rhs_evaluations
+    );
+    let rows = per_row.0.max(1) as f64;
+    println!(
+        "in contact, mean over the {} output rows: {:.1} body pairs, {:.0} sample points",
+        per_row.0,
+        per_row.1 as f64 / rows,
+        per_row.2 as f64 / rows
+    );
+    let (y, refs) = initial_state(&s.model, &s.initial);
+    let dynamics = Dynamics::new(&s.model, refs.clone());
+    dynamics.initialize_memory(&y);
+    let mut f = vec![0.0; y.len()];
+    let rhs = per_call(|| OdeSystem::rhs(&dynamics, 0.0, black_box(&y), &mut f));
+    let hinges_only = {
+        let d = Dynamics::new(&bare.model, refs);
+        d.initialize_memory(&y);
+        let mut g = vec![0.0; y.len()];
+        per_call(|| OdeSystem::rhs(&d, 0.0, black_box(&y), &mut g))
+    };
+    let mut newton = GraphNewton::new_exact(&dynamics, &s.model, &dynamics);
+    let jacobian = per_call(|| assert!(newton.prepare(0.0, &y, &f, 1e-5)));
+    let mut b = f.clone();
+    let solve = per_call(|| {
+        b.copy_from_slice(&f);
+        newton.solve(&mut b);
+    });
+    let n_rhs = r.rhs_evaluations as f64;
+    let parts = [
+        ("rhs: contact", (rhs - hinges_only) * n_rhs, format!("{:.1} µs each", (rhs - hinges_only) * 1e6)),
+        ("rhs: the rest", hinges_only * n_rhs, format!("{:.1} µs each", hinges_only * 1e6)),
+        ("Jacobians + factorization", jacobian * r.jacobians as f64, format!("{:.2} ms each", jacobian * 1e3)),
+        (
+            "Newton solves",
+            solve * (r.newton_iterations as f64 + r.steps_accepted as f64),
+            format!("{:.1} µs each", solve * 1e6),
+        ),
+    ];
+    let mut accounted = 0.0;
+    println!("where the time goes (unit costs at the stowed state × counts):");
+    for (name, t, unit) in &parts {
+        accounted += t;
+        println!("  {name:<28} {t:7.3} s  {:5.1} %  ({unit})", 100.0 * t / wall);
+    }
+    println!("  {:<28} {:7.3} s  {:5.1} %", "the rest", wall - accounted, 100.0 * (wall - accounted) / wall);
+}
+
+/// The starshade deployed and flapping with and without contact (see the module
+/// documentation).
+fn nothing_touching(repeat: usize) {
     let plain = starshade("");
     let with = starshade("\n[contact]\nstiffness = 1e8\nrestitution = 0.5\nfriction = 0.3\n");
     let samples: usize =

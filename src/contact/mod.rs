@@ -545,6 +545,8 @@ impl ContactRecord {
 pub struct ContactSummary {
     /// Body pairs with at least one point in contact.
     pub pairs: usize,
+    /// Sample points in contact.
+    pub points: usize,
     /// Deepest penetration, m (0 without contact), and its pair (sample's body, other body).
     pub deepest: (f64, usize, usize),
     /// Largest total force between two bodies, N.
@@ -570,6 +572,7 @@ impl ContactSummary {
             *pair_force.entry((a, b)).or_insert_with(Vec3::zeros) += p.force_in_n * sign;
         }
         s.pairs = pair_force.len();
+        s.points = points.len();
         for (&(a, b), f) in &pair_force {
             let f = f.norm();
             if f > s.force_max || (f == s.force_max && (a as usize, b as usize) < s.force_pair) {

@@ -69,7 +69,7 @@ fn full_contact(repeat: usize) {
     let text = std::fs::read_to_string(dir.join("flasher-thick.toml")).expect("example");
     let text = text.replace("duration = 1.3", "duration = 0.05");
     let s = Scenario::from_toml_in(&text, "flasher-thick-stowed", &dir).unwrap_or_else(|e| panic!("{e}"));
-    let bare = Scenario::from_toml_in(&text.split("\n[contact]").next().expect("text").to_string(), "bare", &dir)
+    let bare = Scenario::from_toml_in(text.split("\n[contact]").next().expect("text"), "bare", &dir)
         .unwrap_or_else(|e| panic!("{e}"));
     let samples: usize =
         s.model.contact.as_ref().map_or(0, |c| c.solids.iter().flatten().map(|s| s.samples.len()).sum());

@@ -323,3 +323,30 @@ fn thick_flasher_refuses_a_hub_inertia() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("hub-inertia") && err.contains("thickness"), "{err}");
 }
+
+/// The generator's thickest-panel report: the layers nest at any thickness and the hinges'
+/// largest stowed offset grows in proportion to it, so the offset per thickness it prints is
+/// the same at 5 mm and 2 cm (to its four digits) and equals the stowed-strain line's largest
+/// deflection over the thickness.
+#[test]
+fn thickest_panel_report_scales_with_thickness() {
+    let dir = common::tmp("contact", "thickest");
+    let ratio = |h: f64| -> (f64, f64) {
+        let out = common::foldsim()
+            .args(["generate", "flasher", "--gores", "6", "--rings", "2", "--thickness", &h.to_string(), "-o"])
+            .arg(dir.join("x.toml"))
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+        let after = |key: &str| -> f64 {
+            let rest = &text[text.find(key).unwrap_or_else(|| panic!("{key} in {text}")) + key.len()..];
+            rest.split_whitespace().next().unwrap().parse().unwrap()
+        };
+        (after("largest hinge offset is "), after("deflection off its fold axis ") / h)
+    };
+    let (a, a_strain) = ratio(0.005);
+    let (b, b_strain) = ratio(0.02);
+    println!("offset per thickness: {a} at 5 mm, {b} at 2 cm (from the strain line {a_strain:.4}, {b_strain:.4})");
+    assert!((a - b).abs() <= 1e-3 * a && a > 0.0, "{a} {b}");
+    assert!((a - a_strain).abs() <= 1e-3 * a && (b - b_strain).abs() <= 1e-3 * b);
+}

@@ -603,6 +603,15 @@ impl FlasherReport {
                 self.geometry.stowed_diameter
                     + 2.0 * (outer as f64 + 1.0) * h / (std::f64::consts::PI / self.shape.gores as f64).cos()
             );
+            // The layers' offsets, and so the hinges' stowed deflections, grow in proportion
+            // to the thickness: the limit on the thickness is the hinges'.
+            let offset = worst.map_or(0.0, |w| w.delta.norm());
+            let _ = writeln!(
+                out,
+                "thickest panel: the layers nest at any thickness; the largest hinge offset is {:.3} thicknesses, so hinges that take an offset d stow panels up to d / {:.3} thick (for this hub and pattern)",
+                offset / h,
+                offset / h
+            );
         }
         let mut folds: Vec<f64> = s.strains.iter().map(|f| f.fold.to_degrees()).collect();
         folds.sort_by(f64::total_cmp);

@@ -121,15 +121,15 @@ fn crease_clipped(
     Some(if h.parent == i { [sp, sc] } else { [sc, sp] })
 }
 
-/// A thin plate (thickness at most half its shortest edge) as its contact samples describe it
+/// A thin plate (thickness at most half its longest edge) as its contact samples describe it
 /// (docs/contact.md §1): the outline moved in by t/2, swept by a ball of radius t/2 (flat
 /// faces, rounded rim), as parry's round convex hull; other shapes as [`solid`].
 fn rounded_solid(shape: &Shape) -> (SharedShape, Pose, f64) {
     use foldsim::math::Vec3;
     let Shape::Plate { vertices, thickness } = shape else { return solid(shape) };
     let n = vertices.len();
-    let shortest = (0..n).map(|i| (vertices[(i + 1) % n] - vertices[i]).norm()).fold(f64::INFINITY, f64::min);
-    if *thickness > 0.5 * shortest {
+    let longest = (0..n).map(|i| (vertices[(i + 1) % n] - vertices[i]).norm()).fold(0.0, f64::max);
+    if *thickness > 0.5 * longest {
         return solid(shape);
     }
     let h = 0.5 * thickness;

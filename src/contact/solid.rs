@@ -74,7 +74,7 @@ pub const MAX_SAMPLES: usize = 20_000;
 impl Solid {
     /// A plate: `vertices` (m, body frame, one plane, either way round) extruded by
     /// `thickness` (m, > 0) about their plane. A thin plate (thickness at most half its
-    /// shortest edge) probes with spheres of radius thickness/2 along its outline, inset so
+    /// longest edge, and its outline moved in by half the thickness still a polygon) probes with spheres of radius thickness/2 along its outline, inset so
     /// that they touch its faces and sides, one per thickness of outline, and with points on
     /// its faces' edges at an acute corner, where the rounded rim leaves the tip out; a thick one (a hub
     /// prism) with points on its top and bottom outlines and side edges, `spacing` m apart.
@@ -100,9 +100,9 @@ impl Solid {
             })
             .collect();
         let h = 0.5 * thickness;
-        let shortest = (0..n).map(|i| dist2(polygon[i], polygon[(i + 1) % n])).fold(f64::INFINITY, f64::min);
+        let longest = (0..n).map(|i| dist2(polygon[i], polygon[(i + 1) % n])).fold(0.0, f64::max);
         let mut samples = Vec::new();
-        let inset = if thickness <= 0.5 * shortest { inset_polygon(&polygon, h) } else { None };
+        let inset = if thickness <= 0.5 * longest { inset_polygon(&polygon, h) } else { None };
         let to_body = |p: [f64; 2], zz: f64| origin + dcm_s_b.transpose() * Vec3::new(p[0], p[1], zz);
         match inset {
             Some(inner) => {

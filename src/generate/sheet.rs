@@ -155,6 +155,66 @@ fn fit(a: &[Vec3], b: &[Vec3]) -> (Mat3, Vec3) {
 /// A panel's body x axis: of the directions in its plane at 5° steps from its first edge, the
 /// one furthest from every edge. A crease along the child's x axis would put `θ_{c/A}` at
 /// pitch ±90°, where 3-2-1 angles cannot be recovered from the frame (docs/model.md §7).
+/// How far thick panels are cut back from each pattern vertex along each edge there (m, by
+/// (vertex, other end of the edge)), with `h` half the thickness. Thick panels meeting at a
+/// vertex tip to tip overlap as soon as the folds leave flat (the vertex interference that
+/// thickness-accommodated patterns clear with cut-outs at the vertices: Zirbel et al. 2013),
+/// and a thin plate's rounded rim (docs/contact.md §1) ends (h)/tan(α/2) short of an acute
+/// corner of angle α. So every panel corner at a vertex is cut back by 1.5 h / tan(α/2) for
+/// the sharpest panel corner there (the factor keeps the cut edge when the outline is moved
+/// in by h), at most a third of the edge; one length per edge and vertex, so that the two
+/// panels of a crease keep a common crease line and end it at the same point (their crease
+/// samples match, docs/contact.md §1). The hub (panel 0) is not cut.
+fn tip_cuts(panels: &[Vec<usize>], dep: &[Vec3], h: f64) -> BTreeMap<(usize, usize), f64> {
+    let mut radius: BTreeMap<usize, f64> = BTreeMap::new();
+    let corners = |nodes: &[usize]| {
+        let n = nodes.len();
+        (0..n).map(move |i| (nodes[(i + n - 1) % n], nodes[i], nodes[(i + 1) % n])).collect::<Vec<_>>()
+    };
+    for nodes in panels.iter().skip(1) {
+        for (prev, v, next) in corners(nodes) {
+            let (u1, u2) = (dep[prev] - dep[v], dep[next] - dep[v]);
+            let cos = (u1.dot(&u2) / (u1.norm() * u2.norm())).clamp(-1.0, 1.0);
+            if cos > 0.0 {
+                let r = 1.5 * h / (0.5 * cos.acos()).tan();
+                let e = radius.entry(v).or_insert(0.0);
+                *e = e.max(r);
+            }
+        }
+    }
+    let mut cuts = BTreeMap::new();
+    for nodes in panels.iter().skip(1) {
+        for (prev, v, next) in corners(nodes) {
+            let r = radius.get(&v).copied().unwrap_or(0.0);
+            for other in [prev, next] {
+                cuts.insert((v, other), r.min((dep[other] - dep[v]).norm() / 3.0));
+            }
+        }
+    }
+    cuts
+}
+
+/// A panel's outline (nodes of `dep`, in order) with its corners cut back by `cuts`.
+fn cut_corners(nodes: &[usize], dep: &[Vec3], cuts: &BTreeMap<(usize, usize), f64>) -> Vec<Vec3> {
+    let n = nodes.len();
+    let mut out = Vec::with_capacity(2 * n);
+    for i in 0..n {
+        let (prev, v, next) = (nodes[(i + n - 1) % n], nodes[i], nodes[(i + 1) % n]);
+        let c1 = cuts.get(&(v, prev)).copied().unwrap_or(0.0);
+        let c2 = cuts.get(&(v, next)).copied().unwrap_or(0.0);
+        if c1 > 0.0 {
+            out.push(dep[v] + (dep[prev] - dep[v]).normalize() * c1);
+        }
+        if c1 <= 0.0 || c2 <= 0.0 {
+            out.push(dep[v]);
+        }
+        if c2 > 0.0 {
+            out.push(dep[v] + (dep[next] - dep[v]).normalize() * c2);
+        }
+    }
+    out
+}
+
 fn body_x(polygon: &[Vec3], normal: &Vec3) -> Vec3 {
     let e1 = (polygon[1] - polygon[0]).normalize();
     let e2 = normal.cross(&e1);
@@ -190,12 +250,16 @@ pub fn sheet_scenario(
     let mut stowed_pose: Vec<Pose> = Vec::new();
     let mut local: Vec<Vec<Vec3>> = Vec::new();
     let mut report = SheetReport::default();
+    let cuts = if p.thickness > 0.0 { tip_cuts(&sheet.panels, dep, 0.5 * p.thickness) } else { BTreeMap::new() };
     for (k, nodes) in sheet.panels.iter().enumerate() {
         if nodes.len() < 3 || nodes.iter().any(|&n| n >= dep.len()) {
             return Err(format!("panel {k}: needs 3 or more nodes of the sheet"));
         }
         let world: Vec<Vec3> = nodes.iter().map(|&n| dep[n]).collect();
-        let shape = Shape::Plate { vertices: world.clone(), thickness: p.thickness };
+        // A thick panel's corners are cut back at the pattern's vertices (`tip_cuts`); the
+        // hub keeps its polygon.
+        let outline = if k > 0 && !cuts.is_empty() { cut_corners(nodes, dep, &cuts) } else { world.clone() };
+        let shape = Shape::Plate { vertices: outline.clone(), thickness: p.thickness };
         shape.check().map_err(|m| format!("panel {k}: {m}"))?;
         let centroid = shape.mass_properties(1.0).centroid;
         let normal = (0..world.len())
@@ -209,7 +273,7 @@ pub fn sheet_scenario(
             let u = body_x(&world, &normal);
             Mat3::from_columns(&[u, normal.cross(&u), normal])
         };
-        local.push(world.iter().map(|x| frame.transpose() * (x - centroid)).collect());
+        local.push(outline.iter().map(|x| frame.transpose() * (x - centroid)).collect());
         let stowed: Vec<Vec3> = nodes.iter().map(|&n| sto[n]).collect();
         let (r, t) = fit(&world, &stowed);
         for (x, s) in world.iter().zip(&stowed) {

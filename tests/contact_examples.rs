@@ -350,3 +350,26 @@ fn thickest_panel_report_scales_with_thickness() {
     assert!((a - b).abs() <= 1e-3 * a && a > 0.0, "{a} {b}");
     assert!((a - a_strain).abs() <= 1e-3 * a && (b - b_strain).abs() <= 1e-3 * b);
 }
+
+/// DOP853 on the thick flasher's stowed wrap: its steps are held to microseconds there (4 µs),
+/// so only the first 5 ms (full contact, every layer on the next) is run, and measured as
+/// the SDIRK4 run is.
+#[test]
+fn thick_flasher_stowed_start_under_dop853() {
+    let mut s = scenario("examples/flasher-thick.toml");
+    s.settings.integrator = foldsim::simulate::Integrator::Dop853 { rtol: 1e-4, atol: 1e-4 };
+    s.settings.duration = 0.005;
+    s.settings.output_step = 0.0005;
+    let (_, rows, report) = run(&s);
+    let (depth, t, a, b, of_thickness) = deepest_rounded(&s, &rows);
+    let (sharp, ..) = deepest(&s, &rows);
+    println!(
+        "flasher-thick, DOP853, first 5 ms: {} steps; deepest with rounded rims {depth:.3e} m at t = {t:.4} s, {} and {} ({:.2} % of the thickness); sharp prisms {sharp:.3e} m; contact code {:.3e} m",
+        report.steps_accepted,
+        s.model.bodies[a].name,
+        s.model.bodies[b].name,
+        100.0 * of_thickness,
+        report.contact.unwrap().deepest.0
+    );
+    assert!(of_thickness < 0.1, "{depth} m into a body");
+}

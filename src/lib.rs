@@ -25,6 +25,7 @@ pub mod generate;
 pub mod integrate;
 pub mod kinematics;
 pub mod law;
+pub mod loads;
 pub mod math;
 pub mod model;
 pub mod observe;

@@ -68,6 +68,9 @@ pub struct Observation {
     pub contact: Option<ContactSummary>,
     /// Energy contact has dissipated since the start (damping and friction), J.
     pub contact_dissipated: f64,
+    /// Work the external loads have done on the system since the start, J, when the model
+    /// has loads (`E + D − W` is then the constant).
+    pub load_work: Option<f64>,
     /// Per body, with contact: whether it touched another body since the previous row (at
     /// the integrator's accepted steps, or at this row). Empty without contact.
     pub touched: Vec<bool>,
@@ -101,6 +104,11 @@ impl Observation {
     /// Energy dissipated by all hinges and contacts since the start, J; `E + D` is constant.
     pub fn dissipated(&self) -> f64 {
         self.hinge_dissipated.iter().sum::<f64>() + self.contact_dissipated
+    }
+
+    /// `W`: the work external loads have done since the start, J (0 without loads).
+    pub fn work(&self) -> f64 {
+        self.load_work.unwrap_or(0.0)
     }
 }
 
@@ -232,6 +240,7 @@ impl Observer {
             hinge_dissipated,
             contact,
             contact_dissipated: if model.contact.is_some() { y.get(d0 + nh).copied().unwrap_or(0.0) } else { 0.0 },
+            load_work: (!model.loads.is_empty()).then(|| y.get(d0 + model.energy_states() - 1).copied().unwrap_or(0.0)),
             touched: Vec::new(),
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
@@ -337,6 +346,9 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     if model.contact.is_some() {
         c.extend(CONTACT_COLUMNS.map(|n| Column { name: n.into(), default: true }));
     }
+    if !model.loads.is_empty() {
+        c.push(Column { name: "W".into(), default: true });
+    }
     c
 }
 
@@ -376,6 +388,9 @@ pub fn row(o: &Observation) -> Vec<f64> {
     r.extend_from_slice(&[o.spin_rate, o.inertia_about_spin_axis, o.deployed_radius, o.deployed_fraction]);
     if let Some(c) = &o.contact {
         r.extend_from_slice(&[c.pairs as f64, c.deepest.0, c.force_max]);
+    }
+    if let Some(w) = o.load_work {
+        r.push(w);
     }
     r
 }

@@ -81,6 +81,10 @@ pub struct Dynamics<'m> {
     evaluations: Cell<u64>,
     /// Of those, evaluations that solved for engaged locks (had constraint rows).
     constrained_evaluations: Cell<u64>,
+    /// The time the right-hand side is evaluated at, s: the external loads depend on it
+    /// (set by the integrator's call, and by [`Dynamics::accept`] for evaluations at an
+    /// accepted state).
+    time: Cell<f64>,
 }
 
 /// A discrete change of a hinge law's memory, located in time.
@@ -138,6 +142,7 @@ impl<'m> Dynamics<'m> {
             proximity: RefCell::new(None),
             evaluations: Cell::new(0),
             constrained_evaluations: Cell::new(0),
+            time: Cell::new(0.0),
         }
     }
 
@@ -170,6 +175,11 @@ impl<'m> Dynamics<'m> {
     /// then contact's (when on).
     pub fn state_len(&self) -> usize {
         BODY_STATE_LEN * self.model.bodies.len() + self.model.energy_states()
+    }
+
+    /// Index of the work the external loads have done in the state vector, if there are any.
+    pub fn load_work_index(&self) -> Option<usize> {
+        (!self.model.loads.is_empty()).then(|| self.state_len() - 1)
     }
 
     /// Index of the energy contact has dissipated in the state vector, if contact is on.
@@ -294,6 +304,7 @@ impl<'m> Dynamics<'m> {
     /// law comes within [`GIMBAL_LOCK_MARGIN`] of pitch ±90°, where 3-2-1 laws are singular
     /// (docs/model.md §7), or if a law's own check fails (a table's range, say).
     pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
+        self.time.set(t);
         let mut refs = self.theta_refs.borrow_mut();
         let mut memories = self.memories.borrow_mut();
         for (i, h) in self.model.hinges.iter().enumerate() {
@@ -325,7 +336,8 @@ impl<'m> Dynamics<'m> {
         Ok(())
     }
 
-    /// Right-hand side `ẏ = f(y)` (time does not appear).
+    /// Right-hand side `ẏ = f(y)` at the time last set (only the external loads depend on
+    /// it).
     pub fn rhs(&self, y: &[f64], dydt: &mut [f64]) {
         self.evaluations.set(self.evaluations.get() + 1);
         let model = self.model;
@@ -382,6 +394,20 @@ impl<'m> Dynamics<'m> {
             dydt[diss0 + model.hinges.len()] = dissipation;
         }
 
+        if let Some(w) = self.load_work_index() {
+            // External loads (crate::loads): their wrench on each body, their power into W.
+            let t = self.time.get();
+            let mut power = 0.0;
+            for load in &model.loads {
+                let m = &motions[load.body];
+                let (f, tau) = load.wrench(t, &m.dcm_n_b);
+                force_in_n[load.body] += f;
+                torque_in_n[load.body] += tau;
+                power += crate::loads::power(&f, &tau, &m.v_in_n, &m.omega_in_n);
+            }
+            dydt[w] = power;
+        }
+
         for (i, body) in model.bodies.iter().enumerate() {
             let s = &y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
             let d = &mut dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
@@ -422,7 +448,8 @@ fn fill_frames(motions: impl Iterator<Item = BodyMotion>, frames: &mut [Frame]) 
 }
 
 impl crate::integrate::OdeSystem for Dynamics<'_> {
-    fn rhs(&self, _t: f64, y: &[f64], dydt: &mut [f64]) {
+    fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        self.time.set(t);
         Dynamics::rhs(self, y, dydt);
     }
 }

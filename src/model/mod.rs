@@ -44,6 +44,8 @@ pub struct Model {
     /// Contact among the bodies with shapes, if the scenario asks for it
     /// ([`Model::enable_contact`]).
     pub contact: Option<crate::contact::ContactSet>,
+    /// External loads on the bodies (crate::loads), in input order.
+    pub loads: Vec<crate::loads::Load>,
 }
 
 /// What is wrong with a model, and which body or hinge it concerns.
@@ -222,7 +224,8 @@ impl Model {
         for (h, law) in hinges.iter_mut().zip(laws) {
             h.law = law;
         }
-        let mut model = Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree, contact: None };
+        let mut model =
+            Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree, contact: None, loads: Vec::new() };
         // Assemble A0 frames at zero tree coordinates (docs/model.md §2).
         if hinges.iter().any(|h| h.assembled) {
             std::mem::swap(&mut model.hinges, &mut hinges);
@@ -255,9 +258,10 @@ impl Model {
     }
 
     /// Energy integrals the state carries after the bodies: one per hinge, then one for
-    /// contact when it is on (crate::state).
+    /// contact when it is on, then the work of the external loads when there are any
+    /// (crate::state).
     pub fn energy_states(&self) -> usize {
-        self.hinges.len() + usize::from(self.contact.is_some())
+        self.hinges.len() + usize::from(self.contact.is_some()) + usize::from(!self.loads.is_empty())
     }
 
     /// Total mass, kg.

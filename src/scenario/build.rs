@@ -429,6 +429,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     if let Some(c) = &raw.contact {
         super::contact::enable(ctx, c, &mut model, &ic)?;
     }
+    super::loads::add(ctx, &raw.loads, &mut model)?;
 
     // Every run must end: an explicit method that must follow the fastest hinge for this
     // long would take more steps than any run should (the user may insist).

@@ -14,6 +14,7 @@ mod contact;
 pub mod edit;
 pub mod error;
 mod laws;
+mod loads;
 mod raw;
 mod values;
 

@@ -18,6 +18,8 @@ pub(super) struct RawScenario {
     #[serde(default)]
     pub(super) initial: RawInitial,
     pub(super) contact: Option<Spanned<RawContact>>,
+    #[serde(rename = "load", default)]
+    pub(super) loads: Vec<super::loads::RawLoad>,
     /// A sweep's distributions and metrics (read by `crate::sweep`; a run ignores it and
     /// runs the nominal values).
     #[allow(dead_code)]

@@ -132,7 +132,7 @@ impl StreamOut<'_, '_, '_, '_> {
             d.energy = d.energy.max((o.energy() - first.energy()).abs());
             d.energy_final_change = o.energy() - first.energy();
             d.dissipated = o.dissipated();
-            let balance = o.energy() + o.dissipated() - first.energy() - first.dissipated();
+            let balance = o.energy() + o.dissipated() - o.work() - first.energy() - first.dissipated() + first.work();
             d.energy_balance = d.energy_balance.max(balance.abs());
         } else {
             self.drift.energy_initial = o.energy();

@@ -68,9 +68,9 @@ pub struct Observation {
     pub contact: Option<ContactSummary>,
     /// Energy contact has dissipated since the start (damping and friction), J.
     pub contact_dissipated: f64,
-    /// Work the external loads have done on the system since the start, J, when the model
-    /// has loads (`E + D − W` is then the constant).
-    pub load_work: Option<f64>,
+    /// What the external loads have given the system since the start, when the model has
+    /// loads (`E + D − W` is then the constant).
+    pub loads: Option<LoadTotals>,
     /// Per body, with contact: whether it touched another body since the previous row (at
     /// the integrator's accepted steps, or at this row). Empty without contact.
     pub touched: Vec<bool>,
@@ -108,7 +108,7 @@ impl Observation {
 
     /// `W`: the work external loads have done since the start, J (0 without loads).
     pub fn work(&self) -> f64 {
-        self.load_work.unwrap_or(0.0)
+        self.loads.map_or(0.0, |l| l.work)
     }
 }
 
@@ -240,7 +240,11 @@ impl Observer {
             hinge_dissipated,
             contact,
             contact_dissipated: if model.contact.is_some() { y.get(d0 + nh).copied().unwrap_or(0.0) } else { 0.0 },
-            load_work: (!model.loads.is_empty()).then(|| y.get(d0 + model.energy_states() - 1).copied().unwrap_or(0.0)),
+            loads: (!model.loads.is_empty()).then(|| {
+                let w = d0 + model.energy_states() - crate::model::LOAD_STATES;
+                let v = |k: usize| Vec3::new(y[w + k], y[w + k + 1], y[w + k + 2]);
+                LoadTotals { work: y[w], impulse_in_n: v(1), angular_impulse_in_n: v(4), impulse_moment_in_n: v(7) }
+            }),
             touched: Vec::new(),
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
@@ -352,6 +356,20 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     c
 }
 
+/// What the external loads have given the system since the start (crate::loads).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LoadTotals {
+    /// Work done, J.
+    pub work: f64,
+    /// Impulse ∫ΣF dt, N·s, N frame: what P gained.
+    pub impulse_in_n: Vec3,
+    /// Angular impulse about N's origin ∫Σ(r × F + τ) dt, N·m·s: what H gained.
+    pub angular_impulse_in_n: Vec3,
+    /// ∫ impulse dt, N·s²: the barycenter moved by this over the total mass beyond its
+    /// uniform motion.
+    pub impulse_moment_in_n: Vec3,
+}
+
 /// The contact columns, after the others, when the model has contact: body pairs touching,
 /// deepest penetration (m), largest force between two bodies (N).
 pub const CONTACT_COLUMNS: [&str; 3] = ["contacts", "penetration_max", "contact_force_max"];
@@ -389,8 +407,8 @@ pub fn row(o: &Observation) -> Vec<f64> {
     if let Some(c) = &o.contact {
         r.extend_from_slice(&[c.pairs as f64, c.deepest.0, c.force_max]);
     }
-    if let Some(w) = o.load_work {
-        r.push(w);
+    if let Some(l) = o.loads {
+        r.push(l.work);
     }
     r
 }

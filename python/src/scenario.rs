@@ -259,6 +259,18 @@ impl Scenario {
                 d.set_item("contact", cd)?;
             }
         }
+        // External loads (None without [[load]]): work (J), impulse (N·s) and angular impulse
+        // about N's origin (N·m·s), N frame.
+        match &report.loads {
+            None => d.set_item("loads", py.None())?,
+            Some(l) => {
+                let ld = PyDict::new(py);
+                ld.set_item("work", l.work)?;
+                ld.set_item("impulse", l.impulse_in_n.as_slice().to_vec())?;
+                ld.set_item("angular_impulse", l.angular_impulse_in_n.as_slice().to_vec())?;
+                d.set_item("loads", ld)?;
+            }
+        }
         let hinge = |i: usize| s.model.hinges[i].name.clone();
         let events: Vec<(f64, String, String, String)> = report
             .events

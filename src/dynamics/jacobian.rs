@@ -279,6 +279,21 @@ impl ExactJacobian for Dynamics<'_> {
                 flush(done, &mut hinge_blocks, &mut torque_in_n);
             }
         }
+        // External loads (crate::loads): one fixed in its body's frame, or acting off the
+        // centre of mass, turns with the body, so its wrench depends on the attitude.
+        let t = self.time.get();
+        for load in &model.loads {
+            let b = load.body;
+            let m = BodyMotion::<D>::from_body_state(&seeded(body(b), 0));
+            let (force, torque) = load.wrench(t, &m.dcm_n_b);
+            torque_in_n[b] += torque.map(re);
+            let bd = &model.bodies[b];
+            let accel = force / real::<D>(bd.mass);
+            let alpha = lift::<D>(&(bd.inertia_inv_in_body * motions[b].dcm_n_b.transpose())) * torque;
+            let rows = [accel.x, accel.y, accel.z, alpha.x, alpha.y, alpha.z];
+            let [(dx, dv), _] = split(&rows);
+            hinge_blocks.push((b, b, dx, dv));
+        }
         for (i, j, dx, dv) in &hinge_blocks {
             add(*i, *j, dx, dv);
         }

@@ -177,9 +177,10 @@ impl<'m> Dynamics<'m> {
         BODY_STATE_LEN * self.model.bodies.len() + self.model.energy_states()
     }
 
-    /// Index of the work the external loads have done in the state vector, if there are any.
+    /// Index of the external loads' integrals in the state vector (the work first; see
+    /// [`crate::model::LOAD_STATES`]), if there are any loads.
     pub fn load_work_index(&self) -> Option<usize> {
-        (!self.model.loads.is_empty()).then(|| self.state_len() - 1)
+        (!self.model.loads.is_empty()).then(|| self.state_len() - crate::model::LOAD_STATES)
     }
 
     /// Index of the energy contact has dissipated in the state vector, if contact is on.
@@ -397,15 +398,21 @@ impl<'m> Dynamics<'m> {
         if let Some(w) = self.load_work_index() {
             // External loads (crate::loads): their wrench on each body, their power into W.
             let t = self.time.get();
-            let mut power = 0.0;
+            let (mut power, mut impulse, mut angular) = (0.0, Vec3::zeros(), Vec3::zeros());
             for load in &model.loads {
                 let m = &motions[load.body];
                 let (f, tau) = load.wrench(t, &m.dcm_n_b);
                 force_in_n[load.body] += f;
                 torque_in_n[load.body] += tau;
                 power += crate::loads::power(&f, &tau, &m.v_in_n, &m.omega_in_n);
+                impulse += f;
+                angular += m.r_in_n.cross(&f) + tau;
             }
             dydt[w] = power;
+            dydt[w + 1..w + 4].copy_from_slice(impulse.as_slice());
+            dydt[w + 4..w + 7].copy_from_slice(angular.as_slice());
+            let p = y[w + 1..w + 4].to_vec();
+            dydt[w + 7..w + 10].copy_from_slice(&p);
         }
 
         for (i, body) in model.bodies.iter().enumerate() {

@@ -48,6 +48,11 @@ pub struct Model {
     pub loads: Vec<crate::loads::Load>,
 }
 
+/// The state's integrals of the external loads, in this order: work W (J), impulse ∫ΣF dt
+/// (N·s, N frame, 3), angular impulse about N's origin ∫Σ(r × F + τ) dt (N·m·s, 3), and the
+/// impulse's own time integral (N·s², 3: it moves the barycenter by that over the mass).
+pub const LOAD_STATES: usize = 10;
+
 /// What is wrong with a model, and which body or hinge it concerns.
 #[derive(Debug, Error, Clone, PartialEq)]
 #[error("{message}")]
@@ -258,10 +263,11 @@ impl Model {
     }
 
     /// Energy integrals the state carries after the bodies: one per hinge, then one for
-    /// contact when it is on, then the work of the external loads when there are any
+    /// contact when it is on, then, when there are external loads, the integrals of their
+    /// effect ([`LOAD_STATES`]: work, impulse, angular impulse, the impulse's time integral)
     /// (crate::state).
     pub fn energy_states(&self) -> usize {
-        self.hinges.len() + usize::from(self.contact.is_some()) + usize::from(!self.loads.is_empty())
+        self.hinges.len() + usize::from(self.contact.is_some()) + if self.loads.is_empty() { 0 } else { LOAD_STATES }
     }
 
     /// Total mass, kg.

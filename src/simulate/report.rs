@@ -100,6 +100,9 @@ pub struct RunReport {
     pub contact: Option<crate::contact::ContactRecord>,
     /// Energy contact dissipated over the run (damping and friction), J.
     pub contact_dissipated: f64,
+    /// What the external loads gave the system by the end (work, impulse, angular impulse),
+    /// when the model has loads; the drifts are net of it.
+    pub loads: Option<crate::observe::LoadTotals>,
 }
 
 /// Why a run stopped early.

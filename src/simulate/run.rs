@@ -66,6 +66,9 @@ struct StreamOut<'d, 'm, 's, 'p> {
     deployed_range: (f64, f64),
     /// When the restraint is to let go, s, until it has.
     release_at: Option<f64>,
+    /// Times at which an external load switches or its table bends, s, ascending, those not
+    /// yet reached: a step ends at each (crate::loads::Load::breaks).
+    load_breaks: std::collections::VecDeque<f64>,
     /// Whether rows carry the locks' reactions in the hinge loads (`RunSettings::hinge_loads`).
     hinge_loads: bool,
     /// When it let go, s.
@@ -124,10 +127,16 @@ impl StreamOut<'_, '_, '_, '_> {
         }
         if let Some(first) = &self.first {
             let d = &mut self.drift;
-            d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n).norm());
-            d.angular_momentum = d.angular_momentum.max((o.angular_momentum_in_n - first.angular_momentum_in_n).norm());
-            // The barycenter moves uniformly with the initial momentum: Rc(0) + P(0) t / M.
-            let uniform = first.barycenter_in_n + first.momentum_in_n * ((o.t - first.t) / self.total_mass);
+            // Less what the external loads gave (crate::loads), when there are any.
+            let given = o.loads.unwrap_or_default();
+            d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n - given.impulse_in_n).norm());
+            d.angular_momentum = d
+                .angular_momentum
+                .max((o.angular_momentum_in_n - first.angular_momentum_in_n - given.angular_impulse_in_n).norm());
+            // The barycenter moves uniformly with the initial momentum, Rc(0) + P(0) t / M,
+            // and by the loads' impulse integrated once more over M.
+            let uniform = first.barycenter_in_n
+                + (first.momentum_in_n * (o.t - first.t) + given.impulse_moment_in_n) / self.total_mass;
             d.barycenter = d.barycenter.max((o.barycenter_in_n - uniform).norm());
             d.energy = d.energy.max((o.energy() - first.energy()).abs());
             d.energy_final_change = o.energy() - first.energy();
@@ -369,6 +378,17 @@ impl StreamOut<'_, '_, '_, '_> {
             self.pending = None;
             return Ok(Control::Truncate { t: tr });
         }
+        while self.load_breaks.front().is_some_and(|&b| b <= step.t_prev + tiny) {
+            self.load_breaks.pop_front();
+        }
+        if let Some(&b) = self.load_breaks.front()
+            && step.t > b + tiny
+        {
+            // The step passes a load's switch or a bend of its table: take it again to end
+            // there, so that no step straddles the kink.
+            self.pending = None;
+            return Ok(Control::Truncate { t: b });
+        }
         if let Some(k) = event {
             self.emit_until(step, step.t, step.y)?;
             self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
@@ -395,6 +415,11 @@ impl StreamOut<'_, '_, '_, '_> {
             self.release_at = None;
             self.released_at = Some(step.t);
             self.dynamics.release_restraint();
+            return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
+        }
+        if self.load_breaks.front().is_some_and(|&b| (step.t - b).abs() <= tiny) {
+            // A load switches here: the integrator starts afresh from this state.
+            self.load_breaks.pop_front();
             return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
         }
         if step.t > step.t_prev && (self.dynamics.has_locks() || self.momenta.is_some()) {
@@ -488,11 +513,18 @@ pub fn simulate(
         // The implicit method conserves momentum only to its tolerance, and the projection
         // of locked directions moves positions; a rigid-body velocity correction holds the
         // momenta exactly without touching the internal motion (or the locked rates).
-        momenta: (implicit || dynamics.has_locks()).then(|| dynamics.momenta(&y0)),
+        // (Not with external loads: they change the momenta.)
+        momenta: (model.loads.is_empty() && (implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,
+        load_breaks: {
+            let mut b: Vec<f64> = model.loads.iter().flat_map(|l| l.breaks()).filter(|&t| t > 0.0).collect();
+            b.sort_by(f64::total_cmp);
+            b.dedup();
+            b.into()
+        },
         hinge_loads: settings.hinge_loads,
         released_at: None,
     };
@@ -539,6 +571,7 @@ pub fn simulate(
             && model.contact.as_ref().is_none_or(|c| c.law.restitution == 1.0 && c.law.friction == 0.0),
         contact: model.contact.as_ref().map(|_| dynamics.contact_record()),
         contact_dissipated: out.last.as_ref().map_or(0.0, |o| o.contact_dissipated),
+        loads: out.last.as_ref().and_then(|o| o.loads),
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
         constrained_evaluations: dynamics.constrained_evaluations(),
         lock_engagements: out.lock_engagements,

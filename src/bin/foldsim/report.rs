@@ -103,10 +103,16 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             "    dissipated D            {:.6e} J by the end (hinge damping, hysteresis, stops, contact; for the paper-linear law the work of its non-potential torque)",
             d.dissipated
         );
+        let label = if r.loads.is_some() { "balance |Δ(E + D − W)|" } else { "balance |Δ(E + D)|    " };
+        outln!("    {label}  {:.3e} J ({:.3e} relative)", d.energy_balance, rel(d.energy_balance, scale));
+    }
+    if let Some(l) = &r.loads {
+        let v = |x: &foldsim::math::Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", x.x, x.y, x.z);
+        outln!("  external loads   work W {:.6e} J (E + D − W is the constant)", l.work);
         outln!(
-            "    balance |Δ(E + D)|      {:.3e} J ({:.3e} relative)",
-            d.energy_balance,
-            rel(d.energy_balance, scale)
+            "    impulse          ΔP = {} N·s, ΔH = {} N·m·s (about N's origin; the drifts above are net of these)",
+            v(&l.impulse_in_n),
+            v(&l.angular_impulse_in_n)
         );
     }
     if let Some(c) = &r.contact {

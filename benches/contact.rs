@@ -26,7 +26,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod common;
-use common::{load, repeat_arg};
+use common::{load, per_call, print_breakdown, repeat_arg};
 
 /// The starshade example deployed and flapping, panels 1 cm thick, with `contact` appended.
 fn starshade(contact: &str) -> Scenario {
@@ -51,16 +51,6 @@ fn main() {
         nothing_touching(repeat);
     }
     full_contact(repeat);
-}
-
-/// Seconds per call of `f`, over at least 0.5 s.
-fn per_call(mut f: impl FnMut()) -> f64 {
-    let (start, mut n) = (Instant::now(), 0u32);
-    while n < 3 || start.elapsed().as_secs_f64() < 0.5 {
-        f();
-        n += 1;
-    }
-    start.elapsed().as_secs_f64() / f64::from(n)
 }
 
 /// The thick flasher's stowed start in full contact (see the module documentation).
@@ -137,13 +127,7 @@ fn full_contact(repeat: usize) {
             format!("{:.1} µs each", solve * 1e6),
         ),
     ];
-    let mut accounted = 0.0;
-    println!("where the time goes (unit costs at the stowed state × counts):");
-    for (name, t, unit) in &parts {
-        accounted += t;
-        println!("  {name:<28} {t:7.3} s  {:5.1} %  ({unit})", 100.0 * t / wall);
-    }
-    println!("  {:<28} {:7.3} s  {:5.1} %", "the rest", wall - accounted, 100.0 * (wall - accounted) / wall);
+    print_breakdown(&parts, wall);
 }
 
 /// The starshade deployed and flapping with and without contact (see the module

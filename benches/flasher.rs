@@ -24,17 +24,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod common;
-use common::{load, repeat_arg};
-
-/// Seconds per call of `f`, over at least 0.5 s.
-fn per_call(mut f: impl FnMut()) -> f64 {
-    let (start, mut n) = (Instant::now(), 0u32);
-    while n < 3 || start.elapsed().as_secs_f64() < 0.5 {
-        f();
-        n += 1;
-    }
-    start.elapsed().as_secs_f64() / f64::from(n)
-}
+use common::{load, per_call, print_breakdown, repeat_arg};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -113,11 +103,5 @@ fn main() {
             format!("{:.1} µs each", solve * 1e6),
         ),
     ];
-    let mut accounted = 0.0;
-    println!("where the time goes (unit costs at the stowed state × counts):");
-    for (name, t, unit) in &parts {
-        accounted += t;
-        println!("  {name:<28} {t:7.3} s  {:5.1} %  ({unit})", 100.0 * t / wall);
-    }
-    println!("  {:<28} {:7.3} s  {:5.1} %", "the rest", wall - accounted, 100.0 * (wall - accounted) / wall);
+    print_breakdown(&parts, wall);
 }

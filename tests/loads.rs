@@ -14,6 +14,12 @@ fn loaded(loads: &str, duration: f64, step: f64) -> foldsim::scenario::Scenario 
     foldsim::scenario::Scenario::from_toml(&format!("{text}\n{loads}"), "loaded.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The largest |Δ(E + D − W)| over the rows from the first, J.
+fn largest_imbalance(rows: &[foldsim::observe::Observation]) -> f64 {
+    let budget = |o: &foldsim::observe::Observation| o.energy() + o.dissipated() - o.work();
+    rows.iter().map(|o| (budget(o) - budget(&rows[0])).abs()).fold(0.0, f64::max)
+}
+
 /// A constant force at the hub's centre of mass and a constant torque, both fixed in space,
 /// on the three-panel case (whose hinges move): P(t) − P(0) = F t exactly, and
 /// H(t) − H(0) = ∫ R_hub × F dt + τ t, the integral taken from the output rows' hub positions
@@ -55,10 +61,7 @@ fn momentum_and_work_of_space_fixed_loads() {
     let dh = last.angular_momentum_in_n - first.angular_momentum_in_n;
     let h_err = (dh - expected).norm() / expected.norm();
     let work = last.work();
-    let balance = rows
-        .iter()
-        .map(|o| (o.energy() + o.dissipated() - o.work()) - (first.energy() + first.dissipated() - first.work()))
-        .fold(0.0_f64, |a, b| a.max(b.abs()));
+    let balance = largest_imbalance(&rows);
     println!(
         "P: {p_err:.2e}, H: {h_err:.2e} (relative); W = {work:.6e} J, |Δ(E + D − W)| {balance:.2e} J ({:.2e} of W); report balance {:.2e}",
         balance / work.abs(),
@@ -100,10 +103,7 @@ fn body_fixed_switched_loads_balance_energy() {
     let first = &rows[0];
     let last = rows.last().unwrap();
     let work = last.work();
-    let balance = rows
-        .iter()
-        .map(|o| (o.energy() + o.dissipated() - o.work()) - (first.energy() + first.dissipated() - first.work()))
-        .fold(0.0_f64, |a, b| a.max(b.abs()));
+    let balance = largest_imbalance(&rows);
     let after: Vec<_> = rows.iter().filter(|o| o.t >= 1.5 + 1e-9).collect();
     let (p0, h0) = (after[0].momentum_in_n, after[0].angular_momentum_in_n);
     let drift = after

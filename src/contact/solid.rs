@@ -384,15 +384,12 @@ fn tip_points(polygon: &[[f64; 2]], h: f64, t: f64) -> Vec<[f64; 3]> {
         }
         let half_angle = 0.5 * cos.clamp(-1.0, 1.0).acos();
         let reach = h / half_angle.tan();
-        out.push([v[0], v[1], 0.0]);
+        // The vertex at mid-plane and on both faces, then each edge from one spacing out.
+        out.extend([0.0, -h, h].map(|z| [v[0], v[1], z]));
         for (u, l) in [(u1, l1), (u2, l2)] {
-            let mut x = 0.0;
+            let mut x = t;
             while x < reach.min(l) {
-                for z in [-h, h] {
-                    if x > 0.0 || u == u1 {
-                        out.push([v[0] + x * u[0] / l, v[1] + x * u[1] / l, z]);
-                    }
-                }
+                out.extend([-h, h].map(|z| [v[0] + x * u[0] / l, v[1] + x * u[1] / l, z]));
                 x += t;
             }
         }

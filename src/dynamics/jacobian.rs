@@ -262,7 +262,13 @@ impl ExactJacobian for Dynamics<'_> {
                     hinge_blocks.push((body_index, b, bx, bv));
                 }
             };
-            for p in self.contact_points(y) {
+            // The points `coupled_pairs` found at this state, else found now.
+            let cached = self.jacobian_points.borrow_mut().take();
+            let points = match cached {
+                Some((at, points)) if at == y => points,
+                _ => self.contact_points(y),
+            };
+            for p in points {
                 let (a, b) = (p.key.body as usize, p.key.other as usize);
                 let Some((sample, solid)) = set.sample_and_solid(&p.key) else { continue };
                 if pair.as_ref().is_none_or(|s| s.bodies != (a, b)) {
@@ -314,8 +320,8 @@ impl ExactJacobian for Dynamics<'_> {
     }
 
     fn coupled_pairs(&self, y: &[f64]) -> Vec<(usize, usize)> {
-        let mut pairs: Vec<(usize, usize)> = self
-            .contact_points(y)
+        let points = self.contact_points(y);
+        let mut pairs: Vec<(usize, usize)> = points
             .iter()
             .map(|p| {
                 let (a, b) = (p.key.body as usize, p.key.other as usize);
@@ -324,6 +330,9 @@ impl ExactJacobian for Dynamics<'_> {
             .collect();
         pairs.sort_unstable();
         pairs.dedup();
+        if !points.is_empty() {
+            *self.jacobian_points.borrow_mut() = Some((y.to_vec(), points));
+        }
         pairs
     }
 

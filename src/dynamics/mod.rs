@@ -85,6 +85,10 @@ pub struct Dynamics<'m> {
     /// (set by the integrator's call, and by [`Dynamics::accept`] for evaluations at an
     /// accepted state).
     time: Cell<f64>,
+    /// The contact points the Newton matrix's structure was last made for, with the state
+    /// they are at: the exact Jacobian that follows at that state takes them rather than
+    /// probing again (crate::dynamics::jacobian).
+    jacobian_points: RefCell<Option<(Vec<f64>, Vec<ContactPoint>)>>,
 }
 
 /// A discrete change of a hinge law's memory, located in time.
@@ -143,6 +147,7 @@ impl<'m> Dynamics<'m> {
             evaluations: Cell::new(0),
             constrained_evaluations: Cell::new(0),
             time: Cell::new(0.0),
+            jacobian_points: RefCell::new(None),
         }
     }
 
@@ -411,8 +416,7 @@ impl<'m> Dynamics<'m> {
             dydt[w] = power;
             dydt[w + 1..w + 4].copy_from_slice(impulse.as_slice());
             dydt[w + 4..w + 7].copy_from_slice(angular.as_slice());
-            let p = y[w + 1..w + 4].to_vec();
-            dydt[w + 7..w + 10].copy_from_slice(&p);
+            dydt[w + 7..w + 10].copy_from_slice(&y[w + 1..w + 4]);
         }
 
         for (i, body) in model.bodies.iter().enumerate() {

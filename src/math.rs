@@ -344,6 +344,35 @@ pub fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
     Matrix3::new(z, -v.z, v.y, v.z, z, -v.x, -v.y, v.x, z)
 }
 
+/// The attitude of frame B relative to a reference frame R from their quaternions relative
+/// to N, `(w, x, y, z)`, scalar first (Hamilton, as stored in the state: `[N b] =
+/// dcm_from_quat(q)`): `β_{B/R} = β_{R/N}* ⊗ β_{B/N}`, since `[N B] = [N R][R B]`
+/// (Schaub & Junkins §3.5, in Hamilton's product order). `q_b` need not be unit.
+pub fn quat_relative<T: Real>(q_b: &[T], q_r: &[f64; 4]) -> [T; 4] {
+    let n = (q_b[0] * q_b[0] + q_b[1] * q_b[1] + q_b[2] * q_b[2] + q_b[3] * q_b[3]).sqrt();
+    let b = [q_b[0] / n, q_b[1] / n, q_b[2] / n, q_b[3] / n];
+    let a = [real::<T>(q_r[0]), real::<T>(-q_r[1]), real::<T>(-q_r[2]), real::<T>(-q_r[3])];
+    [
+        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
+    ]
+}
+
+/// Modified Rodrigues parameters `σ = q_v / (1 + q_w)` of a unit quaternion, the short way
+/// round (the shadow set `−q` when `q_w < 0`), so `|σ| ≤ 1` (Schaub & Junkins §3.7).
+pub fn mrp_from_quat<T: Real>(q: &[T; 4]) -> Vector3<T> {
+    let s = if q[0] < T::zero() { -T::one() } else { T::one() };
+    Vector3::new(q[1], q[2], q[3]) * (s / (T::one() + s * q[0]))
+}
+
+/// The rotation angle of a unit quaternion, the short way round, rad in [0, π]:
+/// `2 atan2(|q_v|, |q_w|)`.
+pub fn quat_angle(q: &[f64; 4]) -> f64 {
+    2.0 * (q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt().atan2(q[0].abs())
+}
+
 /// Unit quaternion `(w, x, y, z)` (Hamilton) of a rotation, as stored in the state vector.
 ///
 /// The body state stores `q_n_b`, which maps body components to N components:
@@ -504,5 +533,26 @@ mod tests {
     fn unwrap_chooses_nearest_turn() {
         assert!((unwrap_near(-3.1, 3.1) - (2.0 * PI - 3.1)).abs() < 1e-15);
         assert!((unwrap_near(0.1, 12.0) - (0.1 + 4.0 * PI)).abs() < 1e-14);
+    }
+
+    /// `β_{B/R}` composes back to `β_{B/N}` (`[N B] = [N R][R B]`), and the MRPs of a rotation
+    /// by φ about an axis are `tan(φ/4)` along it, the short way round past π.
+    #[test]
+    fn relative_quaternion_and_mrps() {
+        let q_of = |axis: Vec3, angle: f64| {
+            let a = axis.normalize() * (0.5 * angle).sin();
+            [(0.5 * angle).cos(), a.x, a.y, a.z]
+        };
+        let q_b = q_of(Vec3::new(1.0, -2.0, 0.5), 1.3);
+        let q_r = q_of(Vec3::new(0.2, 1.0, -1.0), -0.7);
+        let q_br = quat_relative(&q_b, &q_r);
+        let composed = dcm_from_quat(&q_r) * dcm_from_quat(&q_br);
+        assert!((composed - dcm_from_quat(&q_b)).norm() < 1e-15);
+        for phi in [0.3, 2.0, 4.0] {
+            let sigma = mrp_from_quat(&q_of(Vec3::z(), phi));
+            let short = if phi > PI { phi - 2.0 * PI } else { phi };
+            assert!((sigma - Vec3::z() * (short / 4.0).tan()).norm() < 1e-15, "{phi}");
+            assert!((quat_angle(&q_of(Vec3::x(), phi)) - short.abs()).abs() < 1e-14);
+        }
     }
 }

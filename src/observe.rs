@@ -68,9 +68,12 @@ pub struct Observation {
     pub contact: Option<ContactSummary>,
     /// Energy contact has dissipated since the start (damping and friction), J.
     pub contact_dissipated: f64,
-    /// What the external loads have given the system since the start, when the model has
-    /// loads (`E + D − W` is then the constant).
+    /// What the external loads, motors and control have given the system since the start,
+    /// when the model has any (`E + D − W` is then the constant).
     pub loads: Option<LoadTotals>,
+    /// What the motors and the hub's control do, when the model has any (set by the run:
+    /// sampled commands are the run's memory).
+    pub actuators: Option<crate::loads::control::Reading>,
     /// Per body, with contact: whether it touched another body since the previous row (at
     /// the integrator's accepted steps, or at this row). Empty without contact.
     pub touched: Vec<bool>,
@@ -211,6 +214,16 @@ impl Observer {
             p_scale += p.norm();
             h_scale += orbital.norm() + spin.norm();
         }
+        if let Some(c) = &model.control {
+            // Reaction wheels (crate::loads::control): their spin momenta join the hub's H,
+            // and their energy h²/2J_s the kinetic energy (the hub's inertia lacks J_s g gᵀ).
+            let w = crate::state::wheel_index(model);
+            let h = &y[w..w + c.wheels().len()];
+            let spin = hub.dcm_n_b * c.wheel_momentum_in_hub(h);
+            angular += spin;
+            h_scale += spin.norm();
+            kinetic += c.wheels().iter().zip(h).map(|(wh, h)| 0.5 * h * h / wh.inertia).sum::<f64>();
+        }
         let barycenter = mass_moment / model.total_mass();
         let poses: Vec<(Vec3, crate::math::Mat3)> = motions.iter().map(|m| (m.r_in_n, m.dcm_n_b)).collect();
         let deployed_radius = radius(&poses, &self.outline, &barycenter, &self.spin_axis_in_n);
@@ -240,12 +253,12 @@ impl Observer {
             hinge_dissipated,
             contact,
             contact_dissipated: if model.contact.is_some() { y.get(d0 + nh).copied().unwrap_or(0.0) } else { 0.0 },
-            loads: (!model.loads.is_empty()).then(|| {
-                let w = d0 + model.energy_states() - crate::model::LOAD_STATES;
+            loads: crate::state::work_index(model).map(|w| {
                 let v = |k: usize| Vec3::new(y[w + k], y[w + k + 1], y[w + k + 2]);
                 LoadTotals { work: y[w], impulse_in_n: v(1), angular_impulse_in_n: v(4), impulse_moment_in_n: v(7) }
             }),
             touched: Vec::new(),
+            actuators: None,
             momentum_scale: p_scale,
             angular_momentum_scale: h_scale,
             spin_rate: hub.omega_in_n.dot(&self.spin_axis_in_n),
@@ -350,8 +363,25 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     if model.contact.is_some() {
         c.extend(CONTACT_COLUMNS.map(|n| Column { name: n.into(), default: true }));
     }
-    if !model.loads.is_empty() {
+    if model.has_work() {
         c.push(Column { name: "W".into(), default: true });
+    }
+    let one = |c: &mut Vec<Column>, name: String| c.push(Column { name, default: true });
+    for m in &model.motors {
+        one(&mut c, format!("{}_effort", m.name));
+    }
+    if let Some(control) = &model.control {
+        push(&mut c, "sigma_B", XYZ, true);
+        one(&mut c, "pointing_error".into());
+        push(&mut c, "L_req", XYZ, true);
+        push(&mut c, "L", XYZ, true);
+        for name in control.actuator_names() {
+            one(&mut c, format!("{name}_torque"));
+        }
+        for w in control.wheels() {
+            one(&mut c, format!("{}_speed", w.name));
+            one(&mut c, format!("{}_h", w.name));
+        }
     }
     c
 }
@@ -409,6 +439,19 @@ pub fn row(o: &Observation) -> Vec<f64> {
     }
     if let Some(l) = o.loads {
         r.push(l.work);
+    }
+    if let Some(a) = &o.actuators {
+        r.extend_from_slice(&a.motor_efforts);
+        if !a.efforts.is_empty() {
+            v(&mut r, &a.sigma_hub);
+            r.push(a.pointing_error);
+            v(&mut r, &a.required_in_hub);
+            v(&mut r, &a.applied_in_hub);
+            r.extend_from_slice(&a.efforts);
+            for (speed, h) in a.wheel_speeds.iter().zip(&a.wheel_momenta) {
+                r.extend_from_slice(&[*speed, *h]);
+            }
+        }
     }
     r
 }

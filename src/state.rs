@@ -69,6 +69,17 @@ impl<T: Real> BodyMotion<T> {
     }
 }
 
+/// Index in the state vector of the work W (then the other [`crate::model::LOAD_STATES`]),
+/// if the model has it.
+pub fn work_index(model: &Model) -> Option<usize> {
+    model.work_offset().map(|o| BODY_STATE_LEN * model.bodies.len() + o)
+}
+
+/// Index in the state vector of the first reaction wheel's spin momentum (the others follow).
+pub fn wheel_index(model: &Model) -> usize {
+    BODY_STATE_LEN * model.bodies.len() + model.wheel_offset()
+}
+
 /// Builds the state vector from body motions (model order).
 pub fn state_from_motions(model: &Model, motions: &[BodyMotion]) -> State {
     let mut y = vec![0.0; BODY_STATE_LEN * model.bodies.len()];

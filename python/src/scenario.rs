@@ -271,6 +271,25 @@ impl Scenario {
                 d.set_item("loads", ld)?;
             }
         }
+        // The hub's control (None without [control]): per actuator its largest torque (N·m) and
+        // momentum (N·m·s, wheels), and when its limits first cut it (s, or None).
+        match &s.model.control {
+            None => d.set_item("actuators", py.None())?,
+            Some(c) => {
+                let ad = PyDict::new(py);
+                for (name, rec) in c.actuator_names().iter().zip(&report.actuators) {
+                    let one = PyDict::new(py);
+                    one.set_item("torque_max", rec.effort_max)?;
+                    one.set_item("momentum_max", rec.momentum_max)?;
+                    one.set_item("torque_limit_from", rec.torque_first)?;
+                    one.set_item("torque_limit_time", rec.torque_time)?;
+                    one.set_item("momentum_limit_from", rec.momentum_first)?;
+                    one.set_item("momentum_limit_time", rec.momentum_time)?;
+                    ad.set_item(*name, one)?;
+                }
+                d.set_item("actuators", ad)?;
+            }
+        }
         let hinge = |i: usize| s.model.hinges[i].name.clone();
         let events: Vec<(f64, String, String, String)> = report
             .events

@@ -216,11 +216,16 @@ impl ExactJacobian for Dynamics<'_> {
         // Per body: total hinge torque, N components (for the rotation into body components).
         let mut torque_in_n = vec![Vector3::<f64>::zeros(); nb];
         let mut hinge_blocks = Vec::with_capacity(2 * model.hinges.len());
+        let t = self.time.get();
         for (i, h) in model.hinges.iter().enumerate() {
             let p = BodyMotion::<D>::from_body_state(&seeded(body(h.parent), 0));
             let c = BodyMotion::<D>::from_body_state(&seeded(body(h.child), B));
             let k = hinge_kinematics(h, &p, &c, &refs[i]);
-            let Some(w) = h.law.wrench_dual(&k.state, &memories[i]) else { return false };
+            let Some(mut w) = h.law.wrench_dual(&k.state, &memories[i]) else { return false };
+            if let Some((motor, _)) = self.motor_wrench(i, &k.state, t) {
+                w.force_in_a0 += motor.force_in_a0;
+                w.torque_in_a += motor.torque_in_a;
+            }
             let f_n = k.dcm_n_a0 * w.force_in_a0;
             let tau_n = k.dcm_n_a * w.torque_in_a;
             let on_parent = (f_n, k.arm_parent_in_n.cross(&f_n) + tau_n);
@@ -286,12 +291,9 @@ impl ExactJacobian for Dynamics<'_> {
             }
         }
         // External loads (crate::loads): one fixed in its body's frame, or acting off the
-        // centre of mass, turns with the body, so its wrench depends on the attitude.
-        let t = self.time.get();
-        for load in &model.loads {
-            let b = load.body;
-            let m = BodyMotion::<D>::from_body_state(&seeded(body(b), 0));
-            let (force, torque) = load.wrench(t, &m.dcm_n_b);
+        // centre of mass, turns with the body, so its wrench depends on the attitude. The
+        // hub's control depends on the hub's attitude and rate (the wheel momenta held).
+        let mut self_block = |b: usize, force: Vector3<D>, torque: Vector3<D>| {
             torque_in_n[b] += torque.map(re);
             let bd = &model.bodies[b];
             let accel = force / real::<D>(bd.mass);
@@ -299,6 +301,17 @@ impl ExactJacobian for Dynamics<'_> {
             let rows = [accel.x, accel.y, accel.z, alpha.x, alpha.y, alpha.z];
             let [(dx, dv), _] = split(&rows);
             hinge_blocks.push((b, b, dx, dv));
+        };
+        for load in &model.loads {
+            let m = BodyMotion::<D>::from_body_state(&seeded(body(load.body), 0));
+            let (force, torque) = load.wrench(t, &m.dcm_n_b);
+            self_block(load.body, force, torque);
+        }
+        let wi = crate::state::wheel_index(model);
+        let hub = seeded(body(0), 0);
+        if let Some(tau_b) = self.control_torque(&hub, &y[wi..wi + model.wheel_count()]) {
+            let m = BodyMotion::<D>::from_body_state(&hub);
+            self_block(0, Vector3::zeros(), m.dcm_n_b * tau_b);
         }
         for (i, j, dx, dv) in &hinge_blocks {
             add(*i, *j, dx, dv);

@@ -6,6 +6,7 @@
 //! the parent `+F_N` at the same point and `+τ_N`. This follows from the virtual work of
 //! eq. 14 and conserves linear and angular momentum for any law.
 
+pub mod actuators;
 pub mod diagnose;
 pub mod engage;
 pub mod events;
@@ -89,6 +90,15 @@ pub struct Dynamics<'m> {
     /// they are at: the exact Jacobian that follows at that state takes them rather than
     /// probing again (crate::dynamics::jacobian).
     jacobian_points: RefCell<Option<(Vec<f64>, Vec<ContactPoint>)>>,
+    /// Per hinge: the motors that drive it (indices into the model's motors).
+    motors_of_hinge: Vec<Vec<usize>>,
+    /// The motors' and the control's per-run memory (crate::dynamics::actuators).
+    actuators: RefCell<actuators::ActuatorMemory>,
+    /// Times at which the right-hand side jumps (loads and motors switching, their tables'
+    /// corners, the control's samples), s, ascending: no step passes one.
+    breaks: RefCell<Vec<f64>>,
+    /// The time of the last accepted state, s.
+    accepted: Cell<f64>,
 }
 
 /// A discrete change of a hinge law's memory, located in time.
@@ -148,6 +158,16 @@ impl<'m> Dynamics<'m> {
             constrained_evaluations: Cell::new(0),
             time: Cell::new(0.0),
             jacobian_points: RefCell::new(None),
+            motors_of_hinge: {
+                let mut m = vec![Vec::new(); model.hinges.len()];
+                for (k, motor) in model.motors.iter().enumerate() {
+                    m[motor.hinge].push(k);
+                }
+                m
+            },
+            actuators: RefCell::new(Default::default()),
+            breaks: RefCell::new(Vec::new()),
+            accepted: Cell::new(f64::NEG_INFINITY),
         }
     }
 
@@ -182,10 +202,10 @@ impl<'m> Dynamics<'m> {
         BODY_STATE_LEN * self.model.bodies.len() + self.model.energy_states()
     }
 
-    /// Index of the external loads' integrals in the state vector (the work first; see
-    /// [`crate::model::LOAD_STATES`]), if there are any loads.
+    /// Index of the external work's integrals in the state vector (the work first; see
+    /// [`crate::model::LOAD_STATES`]), if anything does work from outside.
     pub fn load_work_index(&self) -> Option<usize> {
-        (!self.model.loads.is_empty()).then(|| self.state_len() - crate::model::LOAD_STATES)
+        crate::state::work_index(self.model)
     }
 
     /// Index of the energy contact has dissipated in the state vector, if contact is on.
@@ -303,6 +323,7 @@ impl<'m> Dynamics<'m> {
         *self.locks.borrow_mut() = locks;
         *self.lock_ranges.borrow_mut() = ranges;
         self.set_engaged(vec![true; n]);
+        self.start_actuators(y);
     }
 
     /// Records an accepted state: moves every hinge's angle reference to its continuous
@@ -311,11 +332,15 @@ impl<'m> Dynamics<'m> {
     /// (docs/model.md §7), or if a law's own check fails (a table's range, say).
     pub fn accept(&self, t: f64, y: &[f64]) -> Result<(), String> {
         self.time.set(t);
+        self.accepted.set(t);
         let mut refs = self.theta_refs.borrow_mut();
         let mut memories = self.memories.borrow_mut();
         for (i, h) in self.model.hinges.iter().enumerate() {
             let k = self.kinematics_at(i, y, &refs);
-            if h.law.uses_euler_angles() {
+            // A motor on an angle drives a 3-2-1 coordinate (crate::loads::motor).
+            let euler =
+                h.law.uses_euler_angles() || self.motors_of_hinge[i].iter().any(|&m| self.model.motors[m].is_angular());
+            if euler {
                 if k.state.theta.near_gimbal_lock(GIMBAL_LOCK_MARGIN) {
                     return Err(format!(
                         "hinge '{}' reached pitch {:.4}° at t = {t:.6} s: 3-2-1 Euler angles are singular at ±90° (docs/model.md §7), so the hinge law is not defined there",
@@ -339,6 +364,7 @@ impl<'m> Dynamics<'m> {
             refs[i] = k.state.theta;
         }
         self.accept_contacts(t, y);
+        self.accept_actuators(t, y);
         Ok(())
     }
 
@@ -359,14 +385,24 @@ impl<'m> Dynamics<'m> {
         force_in_n.iter_mut().for_each(|f| *f = Vec3::zeros());
         torque_in_n.iter_mut().for_each(|t| *t = Vec3::zeros());
         rows.clear();
+        let t = self.time.get();
+        // What does work from outside the hinges and contacts: loads, motors, control.
+        let (mut work_power, mut impulse, mut angular) = (0.0, Vec3::zeros(), Vec3::zeros());
 
         let diss0 = BODY_STATE_LEN * model.bodies.len();
         for (i, (h, theta_ref)) in model.hinges.iter().zip(refs.iter()).enumerate() {
             let (p, c) = (&motions[h.parent], &motions[h.child]);
             let k = hinge_kinematics(h, p, c, theta_ref);
             let memory = &memories[i];
-            let (HingeWrench { force_in_a0, torque_in_a }, power) = h.law.wrench_and_dissipation(&k.state, memory);
+            let (HingeWrench { mut force_in_a0, mut torque_in_a }, power) =
+                h.law.wrench_and_dissipation(&k.state, memory);
             dydt[diss0 + i] = power;
+            if let Some((motor, power)) = self.motor_wrench(i, &k.state, t) {
+                // Hinge motors (crate::loads::motor): an equal and opposite pair, like the law.
+                force_in_a0 += motor.force_in_a0;
+                torque_in_a += motor.torque_in_a;
+                work_power += power;
+            }
             let f_n = k.dcm_n_a0 * force_in_a0;
             let tau_n = k.dcm_n_a * torque_in_a;
             force_in_n[h.parent] += f_n;
@@ -400,20 +436,41 @@ impl<'m> Dynamics<'m> {
             dydt[diss0 + model.hinges.len()] = dissipation;
         }
 
-        if let Some(w) = self.load_work_index() {
-            // External loads (crate::loads): their wrench on each body, their power into W.
-            let t = self.time.get();
-            let (mut power, mut impulse, mut angular) = (0.0, Vec3::zeros(), Vec3::zeros());
-            for load in &model.loads {
-                let m = &motions[load.body];
-                let (f, tau) = load.wrench(t, &m.dcm_n_b);
-                force_in_n[load.body] += f;
-                torque_in_n[load.body] += tau;
-                power += crate::loads::power(&f, &tau, &m.v_in_n, &m.omega_in_n);
-                impulse += f;
-                angular += m.r_in_n.cross(&f) + tau;
+        // External loads (crate::loads): their wrench on each body, their power into W.
+        for load in &model.loads {
+            let m = &motions[load.body];
+            let (f, tau) = load.wrench(t, &m.dcm_n_b);
+            force_in_n[load.body] += f;
+            torque_in_n[load.body] += tau;
+            work_power += crate::loads::power(&f, &tau, &m.v_in_n, &m.omega_in_n);
+            impulse += f;
+            angular += m.r_in_n.cross(&f) + tau;
+        }
+        if let Some(c) = &model.control {
+            // The hub's control (crate::loads::control): the actuators' torque, the wheels'
+            // gyroscopic reaction, the wheels' motor torques as their momenta's rates.
+            let hub = &motions[0];
+            let wi = crate::state::wheel_index(model);
+            let nw = c.wheels().len();
+            let efforts = self.actuation(y).unwrap_or_default().efforts;
+            let omega_b = hub.omega_in_body();
+            let wheel_h = &y[wi..wi + nw];
+            let tau_b = c.hub_torque(&efforts) - omega_b.cross(&c.wheel_momentum_in_hub(wheel_h));
+            torque_in_n[0] += hub.dcm_n_b * tau_b;
+            if nw > 0 {
+                // Motor work: u Ω per wheel (the wheel gets u Ω_wheel, the hub −u g·ω).
+                for (k, wheel) in c.wheels().iter().enumerate() {
+                    work_power += efforts[k] * crate::loads::control::Control::wheel_speed(wheel, wheel_h[k], &omega_b);
+                }
+                dydt[wi..wi + nw].copy_from_slice(&efforts);
+            } else {
+                let tau_n = hub.dcm_n_b * c.hub_torque(&efforts);
+                work_power += tau_n.dot(&hub.omega_in_n);
+                angular += tau_n;
             }
-            dydt[w] = power;
+        }
+        if let Some(w) = crate::state::work_index(model) {
+            dydt[w] = work_power;
             dydt[w + 1..w + 4].copy_from_slice(impulse.as_slice());
             dydt[w + 4..w + 7].copy_from_slice(angular.as_slice());
             dydt[w + 7..w + 10].copy_from_slice(&y[w + 1..w + 4]);
@@ -460,7 +517,26 @@ fn fill_frames(motions: impl Iterator<Item = BodyMotion>, frames: &mut [Frame]) 
 
 impl crate::integrate::OdeSystem for Dynamics<'_> {
     fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        self.time.set(t);
+        // At a break not yet accepted, the step that lands on it sees the left limit of what
+        // jumps there (its last stages are at the break); the steps after it the right one.
+        let at_break = t > self.accepted.get() && self.breaks.borrow().binary_search_by(|b| b.total_cmp(&t)).is_ok();
+        self.time.set(if at_break && t > 0.0 { f64::from_bits(t.to_bits() - 1) } else { t });
         Dynamics::rhs(self, y, dydt);
+    }
+
+    fn next_break(&self, t: f64) -> Option<f64> {
+        let breaks = self.breaks.borrow();
+        let tiny = 1e-12 * t.abs().max(1.0);
+        breaks.get(breaks.partition_point(|&b| b <= t + tiny)).copied()
+    }
+}
+
+impl Dynamics<'_> {
+    /// Sets the times at which the right-hand side jumps (s, any order): the integrator's
+    /// steps land on each ([`crate::integrate::OdeSystem::next_break`]).
+    pub fn set_breaks(&self, mut breaks: Vec<f64>) {
+        breaks.sort_by(f64::total_cmp);
+        breaks.dedup();
+        *self.breaks.borrow_mut() = breaks;
     }
 }

@@ -7,7 +7,7 @@ use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, VEL};
 
 impl Dynamics<'_> {
     /// Total linear momentum (kg·m/s) and angular momentum about N's origin (kg·m²/s), N
-    /// components, of state `y`.
+    /// components, of state `y`, the reaction wheels' spin momenta included.
     pub fn momenta(&self, y: &[f64]) -> (Vec3, Vec3) {
         let (mut p, mut h) = (Vec3::zeros(), Vec3::zeros());
         for (i, b) in self.model.bodies.iter().enumerate() {
@@ -15,6 +15,10 @@ impl Dynamics<'_> {
             let mv = m.v_in_n * b.mass;
             p += mv;
             h += m.r_in_n.cross(&mv) + m.dcm_n_b * (b.inertia_in_body * m.omega_in_body());
+        }
+        if let Some(c) = &self.model.control {
+            let w = crate::state::wheel_index(self.model);
+            h += BodyMotion::from_state(y, 0).dcm_n_b * c.wheel_momentum_in_hub(&y[w..w + c.wheels().len()]);
         }
         (p, h)
     }

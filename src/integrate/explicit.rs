@@ -212,12 +212,15 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     // last rejection was for non-finite stages.
     let (mut forced, mut non_finite) = (false, false);
     loop {
-        let mut last = false;
-        if t + 1.01 * h - tf > 0.0 {
-            h = tf - t;
-            last = true;
+        // The step lands on the end, or on the next break of the right-hand side.
+        let stop = system.next_break(t).filter(|&b| b < tf).unwrap_or(tf);
+        let (mut last, mut landing) = (false, false);
+        if t + 1.01 * h - stop > 0.0 {
+            h = stop - t;
+            landing = true;
+            last = stop == tf;
         }
-        if 0.1 * h.abs() <= t.abs() * uround || (!last && !forced && h.abs() < limits.min_step) {
+        if 0.1 * h.abs() <= t.abs() * uround || (!landing && !forced && h.abs() < limits.min_step) {
             return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
         }
         if stats.accepted + stats.rejected >= limits.max_steps {
@@ -319,7 +322,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                 combine(&mut w.cont[4], h, &DP5_D, &w.k);
             }
             let t_prev = t;
-            t = if last { tf } else { t + h };
+            t = if landing { stop } else { t + h };
             std::mem::swap(y, &mut w.y_new);
             w.k.swap(0, fsal);
             if last_rejected {

@@ -70,11 +70,13 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     // just failed from growing straight back into the failure.
     let mut after_rejection = false;
     loop {
-        let last = t + 1.01 * h >= tf;
-        if last {
-            h = tf - t;
+        // The step lands on the end, or on the next break of the right-hand side.
+        let stop = system.next_break(t).filter(|&b| b < tf).unwrap_or(tf);
+        let landing = t + 1.01 * h >= stop;
+        if landing {
+            h = stop - t;
         }
-        if h.abs() <= 10.0 * f64::EPSILON * t.abs().max(1.0) || (!last && !forced && h.abs() < limits.min_step) {
+        if h.abs() <= 10.0 * f64::EPSILON * t.abs().max(1.0) || (!landing && !forced && h.abs() < limits.min_step) {
             return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
         }
         if stats.accepted + stats.rejected >= limits.max_steps {
@@ -205,7 +207,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             }
             y.copy_from_slice(&yi);
             f0.copy_from_slice(&fz[4]);
-            t = if last { tf } else { t + h };
+            t = if landing { stop } else { t + h };
             match on_step(&Step::hermite(t_prev, t, &y, &cont)).map_err(OdeError::Callback)? {
                 Control::Continue => {}
                 Control::Restart { t: tr, y: yr } => {

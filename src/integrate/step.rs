@@ -5,6 +5,13 @@
 pub trait OdeSystem {
     /// Writes `f(t, y)` into `dydt`.
     fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]);
+
+    /// The first time after `t` at which `f` may jump (a load switched, a table's corner, a
+    /// controller's sample), if any: no step passes it; a step lands on it exactly, as
+    /// CVODE's `tstop` does, rather than shrinking towards a jump it cannot cross.
+    fn next_break(&self, _t: f64) -> Option<f64> {
+        None
+    }
 }
 
 /// Integration method.

@@ -6,6 +6,9 @@
 //! them to the bodies' wrenches): it knows frames and time, nothing of hinges or contact.
 //! Evaluation is generic over the scalar so that the exact Jacobian can differentiate it.
 
+pub mod control;
+pub mod motor;
+
 use crate::math::{Real, Vec3, real};
 use nalgebra::{Matrix3, Vector3};
 
@@ -18,24 +21,28 @@ pub enum LoadFrame {
     Body,
 }
 
-/// A vector's time history.
+/// A value's time history: a vector (a load's force or torque) or a number (a motor's
+/// effort or its servo's target).
 #[derive(Clone, Debug, PartialEq)]
-pub enum Profile {
-    /// The same vector at all times.
-    Constant(Vec3),
+pub enum Profile<V = Vec3> {
+    /// The same value at all times.
+    Constant(V),
     /// Linear between `(times[k], values[k])` (times strictly increasing, s), held at the
     /// first and last values outside them.
     Table {
         /// Times, s.
         times: Vec<f64>,
-        /// The vector at each time (the load's unit).
-        values: Vec<Vec3>,
+        /// The value at each time (its unit).
+        values: Vec<V>,
     },
 }
 
-impl Profile {
-    /// The vector at time `t` (s).
-    pub fn at(&self, t: f64) -> Vec3 {
+impl<V> Profile<V>
+where
+    V: Copy + std::ops::Mul<f64, Output = V> + std::ops::Add<Output = V> + std::ops::Sub<Output = V>,
+{
+    /// The value at time `t` (s).
+    pub fn at(&self, t: f64) -> V {
         match self {
             Profile::Constant(v) => *v,
             Profile::Table { times, values } => {
@@ -52,8 +59,24 @@ impl Profile {
         }
     }
 
+    /// The rate of change at time `t` (s): a table's slope between its points (the right-hand
+    /// one at a point), zero outside them and for a constant.
+    pub fn slope(&self, t: f64) -> V {
+        match self {
+            Profile::Constant(v) => *v * 0.0,
+            Profile::Table { times, values } => {
+                let k = times.partition_point(|&x| x <= t);
+                if k == 0 || k == times.len() {
+                    values[0] * 0.0
+                } else {
+                    (values[k] - values[k - 1]) * (1.0 / (times[k] - times[k - 1]))
+                }
+            }
+        }
+    }
+
     /// The times at which the profile's slope changes (s): a table's points.
-    fn corners(&self) -> &[f64] {
+    pub fn corners(&self) -> &[f64] {
         match self {
             Profile::Constant(_) => &[],
             Profile::Table { times, .. } => times,

@@ -21,6 +21,26 @@ pub struct Body {
 }
 
 impl Body {
+    /// Takes the reaction wheels' spin inertia `Σ J_s g gᵀ` (kg·m², body frame) out of this
+    /// body's inertia (crate::loads::control: the wheels' spin momenta are states of their
+    /// own). Fails, saying by how much, unless what is left is positive definite.
+    pub fn remove_spin_inertia(&mut self, spin: &Mat3) -> Result<(), String> {
+        let left = self.inertia_in_body - spin;
+        let eig = left.symmetric_eigenvalues();
+        let least = eig.min();
+        match left.try_inverse() {
+            Some(inv) if least > 1e-9 * self.inertia_in_body.abs().max() => {
+                self.inertia_in_body = left;
+                self.inertia_inv_in_body = inv;
+                Ok(())
+            }
+            _ => Err(format!(
+                "body '{}': its inertia less the wheels' spin inertias Σ J_s g gᵀ is not positive definite (least principal value {least:.6e} kg·m²): the hub's inertia must include its wheels, and each wheel's J_s be smaller than it",
+                self.name
+            )),
+        }
+    }
+
     /// A body, checked: mass > 0 and finite; inertia finite, symmetric (to 1e-12 relative),
     /// positive definite and satisfying the triangle inequalities of its principal values.
     pub fn new(name: &str, mass: f64, inertia_in_body: Mat3) -> Result<Self, String> {

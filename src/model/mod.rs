@@ -46,6 +46,16 @@ pub struct Model {
     pub contact: Option<crate::contact::ContactSet>,
     /// External loads on the bodies (crate::loads), in input order.
     pub loads: Vec<crate::loads::Load>,
+    /// Hinge motors (crate::loads::motor), in input order.
+    pub motors: Vec<crate::loads::motor::Motor>,
+    /// Attitude or spin control of the hub (crate::loads::control). With wheels, the hub's
+    /// inertia here is the spacecraft's with its wheels held less the wheels' spin
+    /// inertias, `Σ J_s g gᵀ` (their spin momenta are states of their own).
+    pub control: Option<crate::loads::control::Control>,
+    /// Whether forces, torques and motor efforts may be set from outside the run (stepping
+    /// from Python): the state then carries the work and impulse integrals even without
+    /// loads.
+    pub commandable: bool,
 }
 
 /// The state's integrals of the external loads, in this order: work W (J), impulse ∫ΣF dt
@@ -229,8 +239,17 @@ impl Model {
         for (h, law) in hinges.iter_mut().zip(laws) {
             h.law = law;
         }
-        let mut model =
-            Model { bodies, hinges: Vec::new(), tree, is_tree_hinge: is_tree, contact: None, loads: Vec::new() };
+        let mut model = Model {
+            bodies,
+            hinges: Vec::new(),
+            tree,
+            is_tree_hinge: is_tree,
+            contact: None,
+            loads: Vec::new(),
+            motors: Vec::new(),
+            control: None,
+            commandable: false,
+        };
         // Assemble A0 frames at zero tree coordinates (docs/model.md §2).
         if hinges.iter().any(|h| h.assembled) {
             std::mem::swap(&mut model.hinges, &mut hinges);
@@ -262,12 +281,49 @@ impl Model {
         poses
     }
 
-    /// Energy integrals the state carries after the bodies: one per hinge, then one for
-    /// contact when it is on, then, when there are external loads, the integrals of their
-    /// effect ([`LOAD_STATES`]: work, impulse, angular impulse, the impulse's time integral)
-    /// (crate::state).
+    /// The states after the bodies' (crate::state): one dissipated energy per hinge, then
+    /// one for contact when it is on, then, when anything does work on the structure from
+    /// outside it ([`Model::has_work`]), the integrals of its effect ([`LOAD_STATES`]: work,
+    /// impulse, angular impulse, the impulse's time integral), then one spin momentum per
+    /// reaction wheel.
     pub fn energy_states(&self) -> usize {
-        self.hinges.len() + usize::from(self.contact.is_some()) + if self.loads.is_empty() { 0 } else { LOAD_STATES }
+        self.hinges.len()
+            + usize::from(self.contact.is_some())
+            + if self.has_work() { LOAD_STATES } else { 0 }
+            + self.wheel_count()
+    }
+
+    /// Whether anything does work on the structure from outside its hinges and contacts:
+    /// external loads, motors, the hub's control, or commands from outside the run.
+    pub fn has_work(&self) -> bool {
+        !self.loads.is_empty() || !self.motors.is_empty() || self.control.is_some() || self.commandable
+    }
+
+    /// Whether anything external changes the momenta: loads, torque sources, commands.
+    pub fn has_external(&self) -> bool {
+        !self.loads.is_empty()
+            || self.commandable
+            || self
+                .control
+                .as_ref()
+                .is_some_and(|c| matches!(c.actuators, crate::loads::control::Actuators::Thrusters(_)))
+    }
+
+    /// Number of reaction wheels.
+    pub fn wheel_count(&self) -> usize {
+        self.control.as_ref().map_or(0, |c| c.wheels().len())
+    }
+
+    /// Where the work W is (then the other [`LOAD_STATES`]) among the states after the
+    /// bodies', if the model has it.
+    pub fn work_offset(&self) -> Option<usize> {
+        self.has_work().then(|| self.hinges.len() + usize::from(self.contact.is_some()))
+    }
+
+    /// Where the first wheel's spin momentum is (the others follow) among the states after
+    /// the bodies'.
+    pub fn wheel_offset(&self) -> usize {
+        self.energy_states() - self.wheel_count()
     }
 
     /// Total mass, kg.

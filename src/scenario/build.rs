@@ -430,6 +430,10 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         super::contact::enable(ctx, c, &mut model, &ic)?;
     }
     super::loads::add(ctx, &raw.loads, &mut model)?;
+    super::actuators::add_motors(ctx, &raw.motors, &mut model)?;
+    if let Some(c) = &raw.control {
+        super::actuators::add_control(ctx, c, &mut model)?;
+    }
 
     // Every run must end: an explicit method that must follow the fastest hinge for this
     // long would take more steps than any run should (the user may insist).

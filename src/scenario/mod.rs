@@ -8,6 +8,7 @@
 //! - [`edit`]: [`ScenarioText`], a scenario's values changed by key path before it is built;
 //! - [`error`]: [`ScenarioError`], located by file, line, column and key.
 
+mod actuators;
 mod bodies;
 pub mod build;
 mod contact;

@@ -20,6 +20,9 @@ pub(super) struct RawScenario {
     pub(super) contact: Option<Spanned<RawContact>>,
     #[serde(rename = "load", default)]
     pub(super) loads: Vec<super::loads::RawLoad>,
+    #[serde(rename = "motor", default)]
+    pub(super) motors: Vec<super::actuators::RawMotor>,
+    pub(super) control: Option<Spanned<super::actuators::RawControl>>,
     /// A sweep's distributions and metrics (read by `crate::sweep`; a run ignores it and
     /// runs the nominal values).
     #[allow(dead_code)]

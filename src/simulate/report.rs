@@ -103,6 +103,9 @@ pub struct RunReport {
     /// What the external loads gave the system by the end (work, impulse, angular impulse),
     /// when the model has loads; the drifts are net of it.
     pub loads: Option<crate::observe::LoadTotals>,
+    /// Per actuator of the hub's control (in the model's order), what it did: its largest
+    /// effort and momentum, and when its torque or momentum limit cut it.
+    pub actuators: Vec<crate::dynamics::actuators::ActuatorRecord>,
 }
 
 /// Why a run stopped early.

@@ -117,6 +117,7 @@ impl StreamOut<'_, '_, '_, '_> {
             contact,
         );
         o.touched = touched;
+        o.actuators = self.dynamics.actuator_reading(t, y);
         // Locked directions carry loads too: their reactions join the law's in the wrench
         // columns (dynamics/reactions.rs), when those are asked for.
         if self.hinge_loads {
@@ -473,6 +474,7 @@ pub fn simulate(
     }
     let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
+    dynamics.set_initial_wheels(&mut y0);
     dynamics.initialize_memory(&y0);
     if settings.release_at.is_some() {
         dynamics.restrain_tree_hinges(&y0);
@@ -488,6 +490,19 @@ pub fn simulate(
         dynamics.disengage_locks();
     }
     let n_events = dynamics.event_count();
+    // Where the right-hand side jumps: no step passes these, and the integration restarts
+    // at each.
+    let mut breaks: Vec<f64> = model
+        .loads
+        .iter()
+        .flat_map(|l| l.breaks())
+        .chain(model.motors.iter().flat_map(|m| m.breaks()))
+        .chain(model.control.iter().flat_map(|c| c.sample_times(settings.duration)))
+        .filter(|&t| t > 0.0)
+        .collect();
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup();
+    dynamics.set_breaks(breaks.clone());
     let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
     let mut out = StreamOut {
         dynamics: &dynamics,
@@ -514,17 +529,12 @@ pub fn simulate(
         // of locked directions moves positions; a rigid-body velocity correction holds the
         // momenta exactly without touching the internal motion (or the locked rates).
         // (Not with external loads: they change the momenta.)
-        momenta: (model.loads.is_empty() && (implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
+        momenta: (!model.has_external() && (implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,
-        load_breaks: {
-            let mut b: Vec<f64> = model.loads.iter().flat_map(|l| l.breaks()).filter(|&t| t > 0.0).collect();
-            b.sort_by(f64::total_cmp);
-            b.dedup();
-            b.into()
-        },
+        load_breaks: breaks.into(),
         hinge_loads: settings.hinge_loads,
         released_at: None,
     };
@@ -572,6 +582,7 @@ pub fn simulate(
         contact: model.contact.as_ref().map(|_| dynamics.contact_record()),
         contact_dissipated: out.last.as_ref().map_or(0.0, |o| o.contact_dissipated),
         loads: out.last.as_ref().and_then(|o| o.loads),
+        actuators: dynamics.actuator_records(),
         hinge_dissipated: out.last.map(|o| o.hinge_dissipated).unwrap_or_default(),
         constrained_evaluations: dynamics.constrained_evaluations(),
         lock_engagements: out.lock_engagements,

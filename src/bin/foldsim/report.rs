@@ -115,6 +115,35 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             v(&l.angular_impulse_in_n)
         );
     }
+    if let Some(c) = &scenario.model.control {
+        let wheels = c.wheels();
+        outln!(
+            "  control          {} actuator(s){}",
+            c.actuator_count(),
+            if wheels.is_empty() {
+                ": torque sources (external: in W and ΔH)"
+            } else {
+                ": reaction wheels (internal: their momentum is in H)"
+            }
+        );
+        for ((name, rec), k) in c.actuator_names().iter().zip(&r.actuators).zip(0..) {
+            let mut line = format!("    {name:<14} |torque| up to {:.3e} N·m", rec.effort_max);
+            if let Some(w) = wheels.get(k) {
+                line += &format!(", |J_s Ω| up to {:.3e} N·m·s", rec.momentum_max);
+                if w.max_momentum.is_finite() {
+                    line += &format!(" ({:.0} % of its limit)", 100.0 * rec.momentum_max / w.max_momentum);
+                }
+            }
+            match rec.torque_first {
+                Some(t) => line += &format!("; torque limit from t = {t:.6} s, {:.4} s in all", rec.torque_time),
+                None => line += "; torque limit never reached",
+            }
+            if let Some(t) = rec.momentum_first {
+                line += &format!("; SATURATED (momentum limit) from t = {t:.6} s, {:.4} s in all", rec.momentum_time);
+            }
+            outln!("{line}");
+        }
+    }
     if let Some(c) = &r.contact {
         let name = |i: usize| scenario.model.bodies[i].name.as_str();
         match c.first {

@@ -5,6 +5,7 @@
 use super::Dynamics;
 use crate::law::{HingeState, HingeWrench};
 use crate::loads::control::Reading;
+use crate::loads::{Load, LoadFrame, Profile, Vector};
 use crate::math::{Real, Vec3, quat_angle, quat_relative};
 use crate::state::{BODY_STATE_LEN, OMEGA, QUAT};
 use nalgebra::Vector3;
@@ -88,7 +89,10 @@ impl Dynamics<'_> {
         let omega = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
         let memory = self.actuators.borrow();
         let (required, mut efforts, torque_cut) = match (&memory.actuator_commands, &memory.held) {
-            (Some(u), _) => (Vec3::zeros(), u.clone(), vec![false; u.len()]),
+            (Some(u), _) => {
+                let (u, cut) = c.clip(u);
+                (Vec3::zeros(), u, cut)
+            }
             (None, Some((l, u, cut))) => (*l, u.clone(), cut.clone()),
             (None, None) => {
                 let l = c.required(&s[QUAT..QUAT + 4], &omega);
@@ -110,7 +114,8 @@ impl Dynamics<'_> {
         let omega = Vector3::new(hub[OMEGA], hub[OMEGA + 1], hub[OMEGA + 2]);
         let memory = self.actuators.borrow();
         let mut efforts: Vec<T> = match (&memory.actuator_commands, &memory.held) {
-            (Some(u), _) | (None, Some((_, u, _))) => u.iter().map(|x| crate::math::real(*x)).collect(),
+            (Some(u), _) => c.clip(u).0.iter().map(|x| crate::math::real(*x)).collect(),
+            (None, Some((_, u, _))) => u.iter().map(|x| crate::math::real(*x)).collect(),
             (None, None) => c.allocate(&c.required(&hub[QUAT..QUAT + 4], &omega)).0,
         };
         c.limit_momentum(&mut efforts, wheel_h, &omega);
@@ -235,5 +240,79 @@ impl Dynamics<'_> {
     /// Per actuator of the hub's control, what it did over the run.
     pub fn actuator_records(&self) -> Vec<ActuatorRecord> {
         self.actuators.borrow().record.clone()
+    }
+
+    /// Sets the torque a body receives from outside the run (N·m, in `frame`), replacing
+    /// the torque set before; it acts like a `[[load]]` until changed. Fails unless the
+    /// model is [`crate::model::Model::commandable`] (its state must carry the work).
+    pub fn command_torque(&self, body: usize, torque: Vec3, frame: LoadFrame) -> Result<(), String> {
+        self.commanded_load(body, |l| {
+            l.torque = Some(Vector { profile: Profile::Constant(torque), frame });
+        })
+    }
+
+    /// Sets the force a body receives from outside the run (N, in `frame`) at a point of it
+    /// (m from its centre of mass, body frame), replacing the force set before.
+    pub fn command_force(&self, body: usize, force: Vec3, point_in_body: Vec3, frame: LoadFrame) -> Result<(), String> {
+        self.commanded_load(body, |l| {
+            l.force = Some(Vector { profile: Profile::Constant(force), frame });
+            l.point_in_body = point_in_body;
+        })
+    }
+
+    fn commanded_load(&self, body: usize, change: impl FnOnce(&mut Load)) -> Result<(), String> {
+        if !self.model.commandable {
+            return Err("this run was not started for commands (Model::commandable)".into());
+        }
+        if body >= self.model.bodies.len() {
+            return Err(format!("no body {body}: the model has {}", self.model.bodies.len()));
+        }
+        let mut loads = self.commanded.borrow_mut();
+        let k = match loads.iter().position(|l| l.body == body) {
+            Some(k) => k,
+            None => {
+                loads.push(Load {
+                    name: format!("command on '{}'", self.model.bodies[body].name),
+                    body,
+                    point_in_body: Vec3::zeros(),
+                    force: None,
+                    torque: None,
+                    windows: Vec::new(),
+                });
+                loads.len() - 1
+            }
+        };
+        change(&mut loads[k]);
+        Ok(())
+    }
+
+    /// Sets motor `motor`'s effort from outside the run (N or N·m), replacing its drive;
+    /// `None` gives it back to its drive.
+    pub fn command_motor(&self, motor: usize, effort: Option<f64>) -> Result<(), String> {
+        let mut memory = self.actuators.borrow_mut();
+        let slot = memory.motor_commands.get_mut(motor).ok_or_else(|| format!("no motor {motor}"))?;
+        *slot = effort;
+        Ok(())
+    }
+
+    /// Sets the control's actuator efforts from outside the run (wheel motor torques or
+    /// torque sources', N·m, one per actuator), replacing the law's; `None` gives them back
+    /// to the law. The actuators' torque limits still apply (and are recorded).
+    pub fn command_actuators(&self, efforts: Option<Vec<f64>>) -> Result<(), String> {
+        let Some(c) = &self.model.control else { return Err("the scenario has no [control]".into()) };
+        let efforts = match efforts {
+            Some(u) if u.len() != c.actuator_count() => {
+                return Err(format!(
+                    "{} values for {} actuators ({})",
+                    u.len(),
+                    c.actuator_count(),
+                    c.actuator_names().join(", ")
+                ));
+            }
+            Some(u) => Some(u),
+            None => None,
+        };
+        self.actuators.borrow_mut().actuator_commands = efforts;
+        Ok(())
     }
 }

@@ -302,7 +302,7 @@ impl ExactJacobian for Dynamics<'_> {
             let [(dx, dv), _] = split(&rows);
             hinge_blocks.push((b, b, dx, dv));
         };
-        for load in &model.loads {
+        for load in model.loads.iter().chain(self.commanded.borrow().iter()) {
             let m = BodyMotion::<D>::from_body_state(&seeded(body(load.body), 0));
             let (force, torque) = load.wrench(t, &m.dcm_n_b);
             self_block(load.body, force, torque);

@@ -99,6 +99,9 @@ pub struct Dynamics<'m> {
     breaks: RefCell<Vec<f64>>,
     /// The time of the last accepted state, s.
     accepted: Cell<f64>,
+    /// Loads set from outside the run (a stepped run: crate::simulate::stepper), one per
+    /// body at most, constant until changed; they act like the model's loads.
+    commanded: RefCell<Vec<crate::loads::Load>>,
 }
 
 /// A discrete change of a hinge law's memory, located in time.
@@ -168,6 +171,7 @@ impl<'m> Dynamics<'m> {
             actuators: RefCell::new(Default::default()),
             breaks: RefCell::new(Vec::new()),
             accepted: Cell::new(f64::NEG_INFINITY),
+            commanded: RefCell::new(Vec::new()),
         }
     }
 
@@ -437,7 +441,8 @@ impl<'m> Dynamics<'m> {
         }
 
         // External loads (crate::loads): their wrench on each body, their power into W.
-        for load in &model.loads {
+        let commanded = self.commanded.borrow();
+        for load in model.loads.iter().chain(commanded.iter()) {
             let m = &motions[load.body];
             let (f, tau) = load.wrench(t, &m.dcm_n_b);
             force_in_n[load.body] += f;

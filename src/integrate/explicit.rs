@@ -203,8 +203,13 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     let mut t = t0;
     system.rhs(t, y, &mut w.k[0]);
     stats.rhs_evaluations += 1;
-    let mut h = initial_step(system, tab.order, t, y, &w.k[0], rtol, atol, h_max, &mut w.y_stage, &mut w.y_new);
-    stats.rhs_evaluations += 1;
+    let mut h = match limits.first_step {
+        Some(h0) => h0.min(h_max),
+        None => {
+            stats.rhs_evaluations += 1;
+            initial_step(system, tab.order, t, y, &w.k[0], rtol, atol, h_max, &mut w.y_stage, &mut w.y_new)
+        }
+    };
     let mut facold: f64 = 1e-4;
     let mut last_rejected = false;
     let mut stiff_count = 0usize;
@@ -328,6 +333,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             if last_rejected {
                 h_new = h_new.abs().min(h.abs()).copysign(h);
             }
+            stats.next_step = h_new.abs();
             last_rejected = false;
             let s = Step { t_prev, t, y, kind, cont: &w.cont };
             match on_step(&s).map_err(OdeError::Callback)? {

@@ -47,7 +47,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     system.rhs(t, &y, &mut f0);
     stats.rhs_evaluations += 1;
     announce_start(t0, &y, &mut on_step)?;
-    let mut h = (1e-3 * (tf - t0)).min(1e-2);
+    let mut h = limits.first_step.unwrap_or((1e-3 * (tf - t0)).min(1e-2)).min(tf - t0);
     let mut fresh_jacobian = true;
     stats.jacobians += 1;
     if !newton.prepare(t, &y, &f0, h * GAMMA) {
@@ -228,6 +228,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     continue;
                 }
             }
+            stats.next_step = h * factor;
             if t >= tf {
                 stats.rhs_evaluations += newton.evaluations();
                 return Ok(stats);

@@ -60,6 +60,9 @@ pub struct Stats {
     /// Factorizations of the Newton matrix for a new step size with the Jacobian kept
     /// (implicit methods).
     pub refactorizations: usize,
+    /// The step the step-size control proposed after the last accepted step (for a later
+    /// integration that goes on from there: [`Limits::first_step`]).
+    pub next_step: f64,
 }
 
 impl Stats {
@@ -80,12 +83,15 @@ pub struct Limits {
     /// Most steps, accepted and rejected together; beyond it the integration stops with
     /// [`OdeError::TooManySteps`].
     pub max_steps: usize,
+    /// The step to try first, instead of the method's starting rule (an integration that
+    /// goes on from where another stopped: [`Stats::next_step`]).
+    pub first_step: Option<f64>,
 }
 
 impl Default for Limits {
     /// No bound beyond round-off.
     fn default() -> Self {
-        Self { min_step: 0.0, max_steps: usize::MAX }
+        Self { min_step: 0.0, max_steps: usize::MAX, first_step: None }
     }
 }
 

@@ -204,6 +204,19 @@ impl Control {
         (efforts, cut)
     }
 
+    /// Efforts set from outside, each clipped to its actuator's torque limit (N·m), and per
+    /// actuator whether the limit cut it.
+    pub fn clip(&self, efforts: &[f64]) -> (Vec<f64>, Vec<bool>) {
+        efforts
+            .iter()
+            .enumerate()
+            .map(|(k, u)| {
+                let limit = self.axis_and_limit(k).1;
+                (u.clamp(-limit, limit), u.abs() > limit)
+            })
+            .unzip()
+    }
+
     /// Wheel k's speed relative to the hub, Ω = h/J_s − g·ω (rad/s), for its spin momentum
     /// `h` (N·m·s) and the hub's rate `omega_in_hub` (rad/s).
     pub fn wheel_speed<T: Real>(wheel: &Wheel, h: f64, omega_in_hub: &Vector3<T>) -> T {

@@ -7,6 +7,8 @@
 //!
 //! - [`settings`]: what a run is asked to do ([`RunSettings`], [`Integrator`]);
 //! - [`run`]: [`simulate`], which streams rows to a [`Sink`];
+//! - [`stepper`]: a run advanced piece by piece ([`Stepper`]), for a controller outside;
+//! - [`stream`]: the step handler a run and a stepped run share;
 //! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
 //! - [`estimate`]: a run's wall time, projected from a short trial of it.
 
@@ -14,7 +16,10 @@ pub mod estimate;
 pub mod report;
 pub mod run;
 pub mod settings;
+pub mod stepper;
+pub mod stream;
 
 pub use report::{Drift, RunReport, SimError};
 pub use run::{Sink, simulate};
 pub use settings::{Integrator, RunSettings};
+pub use stepper::Stepper;

@@ -117,6 +117,6 @@ impl RunSettings {
         let max_steps = self
             .max_steps
             .unwrap_or_else(|| default_step_budget(model, self.duration).min(MAX_DEFAULT_STEP_BUDGET) as usize);
-        Limits { min_step: MIN_STEP_OF_DURATION * self.duration, max_steps }
+        Limits { min_step: MIN_STEP_OF_DURATION * self.duration, max_steps, first_step: None }
     }
 }

@@ -1,0 +1,459 @@
+//! A run's step handler: output rows at the output times from the integrator's dense output,
+//! located law events, lock engagement, breaks of the right-hand side, momentum restoration,
+//! and the conservation figures, with the state a run keeps between its steps.
+
+use super::report::{Drift, SimError};
+use crate::dynamics::{Dynamics, LawEvent};
+use crate::integrate::{Control, Step};
+use crate::law::EventKind;
+use crate::observe::{Observation, Observer};
+use crate::state::BODY_STATE_LEN;
+use std::ops::ControlFlow;
+
+/// Receives output rows in time order.
+pub trait Sink {
+    /// Takes one row.
+    fn record(&mut self, observation: &Observation) -> Result<(), String>;
+}
+
+impl<F: FnMut(&Observation) -> Result<(), String>> Sink for F {
+    fn record(&mut self, observation: &Observation) -> Result<(), String> {
+        self(observation)
+    }
+}
+
+/// What a run keeps between its steps (and a stepped run between its spans): the observer,
+/// the output times, the drift figures, events, breaks.
+pub(super) struct RunState {
+    /// Σ m_i, kg.
+    pub(super) total_mass: f64,
+    pub(super) observer: Observer,
+    pub(super) output_times: OutputTimes,
+    pub(super) first: Option<Observation>,
+    pub(super) last: Option<Observation>,
+    pub(super) drift: Drift,
+    pub(super) rows: usize,
+    pub(super) t_reached: f64,
+    pub(super) buffer: Vec<f64>,
+    /// Event function values at the start of the current step.
+    pub(super) g_prev: Vec<f64>,
+    pub(super) g_end: Vec<f64>,
+    /// Per event function, how much it changed over the last accepted step: a function
+    /// nearer zero than that at both ends of a step may have dipped below it inside.
+    pub(super) g_change: Vec<f64>,
+    pub(super) events: Vec<LawEvent>,
+    pub(super) branch_events: usize,
+    pub(super) lock_engagements: Vec<(crate::dynamics::locks::Lock, f64)>,
+    /// Time of the last event and how many events happened at exactly that time.
+    pub(super) same_instant: (f64, usize),
+    /// An event located inside the last step, which the integrator is retaking to end there.
+    pub(super) pending: Option<(usize, f64)>,
+    /// Initial momenta, restored after every step (the implicit path) or after every drift
+    /// projection of locked directions (which moves positions at fixed velocities, and so
+    /// changes the angular momentum by up to the drift times the momenta).
+    pub(super) momenta: Option<(crate::math::Vec3, crate::math::Vec3)>,
+    /// Whether the momenta are restored after every step, output rows included (the implicit
+    /// path), rather than only after projections.
+    pub(super) restore_every_step: bool,
+    /// When the deployed fraction first reached 0.9 (from below), s.
+    pub(super) deployed_90: Option<f64>,
+    /// The deployed fraction at the first row, and the largest of any row (NaN without panels).
+    pub(super) deployed_range: (f64, f64),
+    /// When the restraint is to let go, s, until it has.
+    pub(super) release_at: Option<f64>,
+    /// Times at which an external load switches or its table bends, s, ascending, those not
+    /// yet reached: a step ends at each (crate::loads::Load::breaks).
+    pub(super) load_breaks: std::collections::VecDeque<f64>,
+    /// Whether rows carry the locks' reactions in the hinge loads (`RunSettings::hinge_loads`).
+    pub(super) hinge_loads: bool,
+    /// When it let go, s.
+    pub(super) released_at: Option<f64>,
+}
+
+/// A run's step handler: the dynamics, where rows go, the progress callback, and the run's
+/// state.
+pub(super) struct StreamOut<'a, 'm, 'x, 'y> {
+    pub(super) dynamics: &'a Dynamics<'m>,
+    pub(super) sink: &'a mut (dyn Sink + 'x),
+    pub(super) progress: Option<&'a mut (dyn FnMut(f64) -> ControlFlow<()> + 'y)>,
+    pub(super) s: &'a mut RunState,
+}
+
+/// Output times `k · step` below `end`, then `end`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct OutputTimes {
+    pub(super) step: f64,
+    pub(super) end: f64,
+    pub(super) next: u64,
+    pub(super) done: bool,
+}
+
+impl OutputTimes {
+    pub(super) fn peek(&self) -> Option<f64> {
+        if self.done {
+            return None;
+        }
+        let t = self.next as f64 * self.step;
+        Some(if t < self.end - 1e-9 * self.step { t } else { self.end })
+    }
+    fn advance(&mut self) {
+        if let Some(t) = self.peek() {
+            if t == self.end {
+                self.done = true;
+            }
+            self.next += 1;
+        }
+    }
+}
+
+impl StreamOut<'_, '_, '_, '_> {
+    fn emit(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
+        let (contact, touched) = match self.dynamics.row_contact(y) {
+            Some((summary, touched)) => (Some(summary), touched),
+            None => (None, Vec::new()),
+        };
+        let mut o = self.s.observer.observe(
+            self.dynamics.model(),
+            t,
+            y,
+            &self.dynamics.theta_refs(),
+            &self.dynamics.memories(),
+            contact,
+        );
+        o.touched = touched;
+        o.actuators = self.dynamics.actuator_reading(t, y);
+        // Locked directions carry loads too: their reactions join the law's in the wrench
+        // columns (dynamics/reactions.rs), when those are asked for.
+        if self.s.hinge_loads {
+            for r in self.dynamics.lock_reactions(y) {
+                o.hinge_force_in_a0[r.hinge] += r.force_in_a0;
+                o.hinge_torque_in_a[r.hinge] += r.torque_in_a;
+            }
+        }
+        if let Some(first) = &self.s.first {
+            let d = &mut self.s.drift;
+            // Less what the external loads gave (crate::loads), when there are any.
+            let given = o.loads.unwrap_or_default();
+            d.momentum = d.momentum.max((o.momentum_in_n - first.momentum_in_n - given.impulse_in_n).norm());
+            d.angular_momentum = d
+                .angular_momentum
+                .max((o.angular_momentum_in_n - first.angular_momentum_in_n - given.angular_impulse_in_n).norm());
+            // The barycenter moves uniformly with the initial momentum, Rc(0) + P(0) t / M,
+            // and by the loads' impulse integrated once more over M.
+            let uniform = first.barycenter_in_n
+                + (first.momentum_in_n * (o.t - first.t) + given.impulse_moment_in_n) / self.s.total_mass;
+            d.barycenter = d.barycenter.max((o.barycenter_in_n - uniform).norm());
+            d.energy = d.energy.max((o.energy() - first.energy()).abs());
+            d.energy_final_change = o.energy() - first.energy();
+            d.dissipated = o.dissipated();
+            let balance = o.energy() + o.dissipated() - o.work() - first.energy() - first.dissipated() + first.work();
+            d.energy_balance = d.energy_balance.max(balance.abs());
+        } else {
+            self.s.drift.energy_initial = o.energy();
+            self.s.first = Some(o.clone());
+        }
+        if self.s.last.is_none() {
+            self.s.deployed_range = (o.deployed_fraction, o.deployed_fraction);
+        }
+        self.s.deployed_range.1 = self.s.deployed_range.1.max(o.deployed_fraction);
+        // The first time the structure is 90 % deployed, between the rows that cross it.
+        if self.s.deployed_90.is_none()
+            && let Some(last) = &self.s.last
+            && last.deployed_fraction < 0.9
+            && o.deployed_fraction >= 0.9
+        {
+            let s = (0.9 - last.deployed_fraction) / (o.deployed_fraction - last.deployed_fraction);
+            self.s.deployed_90 = Some(last.t + s * (o.t - last.t));
+        }
+        let restraint = self.dynamics.restraint_locks();
+        for lock in self.dynamics.locks().iter().zip(restraint.iter()).filter(|(_, r)| !**r).map(|(l, _)| l) {
+            let d = &mut self.s.drift;
+            if lock.direction < 3 {
+                let q = o.hinge_delta_in_a0[lock.hinge][lock.direction];
+                d.locked_translation = d.locked_translation.max((q - lock.target).abs());
+            } else {
+                let q = o.hinge_theta[lock.hinge].as_vector()[crate::dynamics::locks::euler_index(lock.direction)];
+                d.locked_rotation = d.locked_rotation.max((q - lock.target).abs());
+            }
+        }
+        self.s.drift.momentum_scale = self.s.drift.momentum_scale.max(o.momentum_scale);
+        self.s.drift.angular_momentum_scale = self.s.drift.angular_momentum_scale.max(o.angular_momentum_scale);
+        self.sink.record(&o).map_err(SimError::Output)?;
+        self.s.rows += 1;
+        self.s.last = Some(o);
+        Ok(())
+    }
+
+    /// Emits every output row up to `t_end` (inclusive) from the step's dense output.
+    fn emit_until(&mut self, step: &Step<'_>, t_end: f64, y_end: &[f64]) -> Result<(), SimError> {
+        let tol = 1e-12 * t_end.abs().max(1.0);
+        let corrected = self.s.restore_every_step || self.dynamics.has_locks();
+        while let Some(t_out) = self.s.output_times.peek() {
+            if t_out > t_end + tol {
+                break;
+            }
+            if (t_out - t_end).abs() <= tol && !corrected {
+                self.emit(t_out, y_end)?;
+            } else {
+                // Rows get the correction the integrator restarts from (made after the rows
+                // are out), and interpolated rows the same: the implicit path's rigid-body
+                // momentum correction, and the projection onto the locked directions (the
+                // dense output drifts off them by up to the local error, 1e-8 m at rtol
+                // 1e-8, where the projected row holds them to 1e-11).
+                let mut y = std::mem::take(&mut self.s.buffer);
+                if (t_out - t_end).abs() <= tol {
+                    y.clear();
+                    y.extend_from_slice(y_end);
+                } else {
+                    y.resize(step.y.len(), 0.0);
+                    step.interpolate(t_out, &mut y);
+                }
+                if corrected {
+                    self.correct(&mut y);
+                }
+                let r = self.emit(t_out, &y);
+                self.s.buffer = y;
+                r?;
+            }
+            self.s.output_times.advance();
+        }
+        Ok(())
+    }
+
+    /// The earliest zero crossing of a law event function inside the step, if any:
+    /// `(index, t*)` with t* just past the crossing (function already negative).
+    ///
+    /// A function negative at the step's end has crossed. One positive at both ends may
+    /// still have dipped below zero and back inside the step (a tape spring's brief slide in
+    /// a vibration, missed at one tolerance and found at the next, changes the rest of the
+    /// run): where it is nearer zero at either end than it changes over a step, it is also
+    /// sampled at three points inside the step.
+    fn locate_event(&mut self, step: &Step<'_>) -> Option<(usize, f64)> {
+        if self.s.g_prev.is_empty() || step.t == step.t_prev {
+            return None;
+        }
+        self.dynamics.event_values(step.y, &mut self.s.g_end);
+        let mut best: Option<(usize, f64)> = None;
+        let mut y = Vec::new();
+        let (t0, h) = (step.t_prev, step.t - step.t_prev);
+        for k in 0..self.s.g_prev.len() {
+            let (g0, g1) = (self.s.g_prev[k], self.s.g_end[k]);
+            if g0.is_nan() || g0 < 0.0 {
+                continue;
+            }
+            let near = g1 >= 0.0 && g0.min(g1) < self.s.g_change[k].max((g1 - g0).abs());
+            if !(g1 < 0.0 || near) {
+                continue;
+            }
+            y.resize(step.y.len(), 0.0);
+            // The event function at time t of the dense output, from the hinge's two bodies
+            // only (the rest of y is not read).
+            let (parent, child) = self.dynamics.event_bodies(k);
+            let body = |b: usize| BODY_STATE_LEN * b..BODY_STATE_LEN * (b + 1);
+            let dynamics = self.dynamics;
+            let mut g_at = |t: f64| {
+                step.interpolate_range(t, body(parent), &mut y);
+                step.interpolate_range(t, body(child), &mut y);
+                dynamics.event_value(k, &y)
+            };
+            // A bracket [a, b] with g(a) ≥ 0 > g(b).
+            let (mut a, mut ga) = (t0, g0);
+            let (mut b, mut gb) = (step.t, g1);
+            if near {
+                let Some((ta, ga_, tb, gb_)) = [0.25, 0.5, 0.75].iter().find_map(|&f| {
+                    let t = t0 + f * h;
+                    let g = g_at(t);
+                    if g < 0.0 {
+                        Some((a, ga, t, g))
+                    } else {
+                        (a, ga) = (t, g);
+                        None
+                    }
+                }) else {
+                    continue;
+                };
+                (a, ga, b, gb) = (ta, ga_, tb, gb_);
+            }
+            // Illinois regula falsi on the bracket.
+            let tol = 1e-13 * b.abs().max(1.0);
+            let mut side = 0;
+            for _ in 0..100 {
+                if b - a <= tol {
+                    break;
+                }
+                let mut c = b - gb * (b - a) / (gb - ga);
+                if !(c > a && c < b) {
+                    c = 0.5 * (a + b);
+                }
+                let gc = g_at(c);
+                if gc < 0.0 {
+                    b = c;
+                    gb = gc;
+                    if side == -1 {
+                        ga *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    a = c;
+                    ga = gc;
+                    if side == 1 {
+                        gb *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            if best.is_none_or(|(_, t)| b < t) {
+                best = Some((k, b));
+            }
+        }
+        best
+    }
+
+    /// Applies law event `k` at `(t, y)` and resets the event functions' reference values.
+    /// Values a round-off below zero in the new memory count as zero (the state sits on the
+    /// switching surface); a crossing soon after is then found at the next step's start. Many
+    /// events at one instant mean the switching chatters, which is reported.
+    fn apply_event(&mut self, k: usize, t: f64, y: &[f64]) -> Result<(), SimError> {
+        let event = self.dynamics.apply_event(k, t, y);
+        self.s.same_instant = if self.s.same_instant.0 == t { (t, self.s.same_instant.1 + 1) } else { (t, 1) };
+        if self.s.same_instant.1 >= 100 {
+            let h = &self.dynamics.model().hinges[event.hinge];
+            return Err(SimError::Physics(format!(
+                "hinge '{}' switches without end at t = {t:.9} s ({}): its events chatter at one instant",
+                h.name, event.description
+            )));
+        }
+        if event.kind == EventKind::Branch {
+            self.s.branch_events += 1;
+        } else {
+            self.s.events.push(event);
+        }
+        self.dynamics.event_values(y, &mut self.s.g_prev);
+        for g in &mut self.s.g_prev {
+            *g = g.max(0.0);
+        }
+        Ok(())
+    }
+
+    /// Handles an accepted step: outputs, law events (which restart the integration at the
+    /// event), angle references and checks.
+    ///
+    /// An event inside a step makes the integrator retake the step to end at the event (so
+    /// no step straddles the change of the right-hand side); at the end of that step the
+    /// law's memory changes and the integration restarts there.
+    pub(super) fn on_step(&mut self, step: &Step<'_>) -> Result<Control, SimError> {
+        let tiny = 1e-12 * step.t.abs().max(1.0);
+        let engaged = if step.t > step.t_prev { self.dynamics.engage_drifted_locks(step.y) } else { Vec::new() };
+        if !engaged.is_empty() {
+            // Locks that drifted over the step carry load from now on: they are engaged and
+            // the step is retaken with them (an event it straddled is found again).
+            let locks = self.dynamics.locks();
+            self.s.lock_engagements.extend(engaged.into_iter().map(|k| (locks[k], step.t_prev)));
+            self.s.pending = None;
+            let mut y = vec![0.0; step.y.len()];
+            step.interpolate(step.t_prev, &mut y);
+            return Ok(Control::Restart { t: step.t_prev, y });
+        }
+        let pending = self.s.pending.take();
+        let event = match pending {
+            // The retaken step ends at the located root (to round-off): the event happens here.
+            Some((k, t)) if (step.t - t).abs() <= tiny => Some(k),
+            _ => match self.locate_event(step) {
+                // At the very start of the step (a round-off past the previous step's end):
+                // apply it there rather than take a step too short for the integrator.
+                Some((k, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
+                    let mut y = vec![0.0; step.y.len()];
+                    step.interpolate(step.t_prev, &mut y);
+                    self.apply_event(k, step.t_prev, &y)?;
+                    return Ok(Control::Restart { t: step.t_prev, y });
+                }
+                Some((k, t)) if t < step.t - tiny => {
+                    self.s.pending = Some((k, t));
+                    return Ok(Control::Truncate { t });
+                }
+                Some((k, _)) => Some(k),
+                None => None,
+            },
+        };
+        if let Some(tr) = self.s.release_at
+            && step.t > tr + tiny
+            && step.t_prev < tr - tiny
+        {
+            // The step passes the release: take it again to end there.
+            self.s.pending = None;
+            return Ok(Control::Truncate { t: tr });
+        }
+        while self.s.load_breaks.front().is_some_and(|&b| b <= step.t_prev + tiny) {
+            self.s.load_breaks.pop_front();
+        }
+        if let Some(&b) = self.s.load_breaks.front()
+            && step.t > b + tiny
+        {
+            // The step passes a load's switch or a bend of its table: take it again to end
+            // there, so that no step straddles the kink.
+            self.s.pending = None;
+            return Ok(Control::Truncate { t: b });
+        }
+        if let Some(k) = event {
+            self.emit_until(step, step.t, step.y)?;
+            self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
+            self.apply_event(k, step.t, step.y)?;
+            self.s.t_reached = step.t;
+            self.report_progress(step.t)?;
+            let mut y = step.y.to_vec();
+            self.correct(&mut y);
+            return Ok(Control::Restart { t: step.t, y });
+        }
+        self.emit_until(step, step.t, step.y)?;
+        self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
+        for ((c, g0), g1) in self.s.g_change.iter_mut().zip(&self.s.g_prev).zip(&self.s.g_end) {
+            *c = (g1 - g0).abs();
+        }
+        std::mem::swap(&mut self.s.g_prev, &mut self.s.g_end);
+        if step.t == step.t_prev {
+            self.dynamics.event_values(step.y, &mut self.s.g_prev);
+        }
+        self.s.t_reached = step.t;
+        self.report_progress(step.t)?;
+        if self.s.release_at.is_some_and(|tr| (step.t - tr).abs() <= tiny) {
+            // The restraint lets go at the end of this step (which was cut to end there).
+            self.s.release_at = None;
+            self.s.released_at = Some(step.t);
+            self.dynamics.release_restraint();
+            return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
+        }
+        if self.s.load_breaks.front().is_some_and(|&b| (step.t - b).abs() <= tiny) {
+            // A load switches here: the integrator starts afresh from this state.
+            self.s.load_breaks.pop_front();
+            return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
+        }
+        if step.t > step.t_prev && (self.dynamics.has_locks() || self.s.momenta.is_some()) {
+            let mut y = step.y.to_vec();
+            if self.correct(&mut y) {
+                return Ok(Control::Restart { t: step.t, y });
+            }
+        }
+        Ok(Control::Continue)
+    }
+
+    /// Tells the progress callback the time reached; stops the run if it asks to.
+    fn report_progress(&mut self, t: f64) -> Result<(), SimError> {
+        match self.progress.as_mut().map(|p| p(t)) {
+            Some(ControlFlow::Break(())) => Err(SimError::Interrupted { t }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Holds locked directions on their constraints once they drift, and the momenta where
+    /// that or the integrator moved them. Returns whether `y` changed.
+    fn correct(&self, y: &mut [f64]) -> bool {
+        let projected = self.dynamics.project(y, false);
+        let mut changed = projected;
+        if let Some((p0, h0)) = &self.s.momenta
+            && (projected || self.s.restore_every_step)
+        {
+            changed |= self.dynamics.restore_momentum(y, p0, h0) > 1e-15;
+        }
+        changed
+    }
+}

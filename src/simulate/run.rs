@@ -37,7 +37,6 @@ pub fn simulate(
     let mut out = StreamOut { dynamics: &dynamics, sink, progress, s: &mut state };
     let start = Instant::now();
     let result = integrate_span(&mut out, settings, 0.0, settings.duration, &y0, None, None);
-    drop(out);
     let wall_seconds = start.elapsed().as_secs_f64();
     let (stats, differenced_jacobians) = result?;
     if state.output_times.peek().is_some() {
@@ -189,7 +188,7 @@ pub(super) fn report(
         steps_rejected: stats.rejected,
         rhs_evaluations: dynamics.evaluations(),
         rows: state.rows,
-        drift: Drift { locks: dynamics.restraint_locks().iter().filter(|r| !**r).count(), ..state.drift.clone() },
+        drift: Drift { locks: dynamics.restraint_locks().iter().filter(|r| !**r).count(), ..state.drift },
         released_at: state.released_at,
         energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy())
             && model.contact.as_ref().is_none_or(|c| c.law.restitution == 1.0 && c.law.friction == 0.0),

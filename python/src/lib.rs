@@ -4,12 +4,14 @@
 //!
 //! - `convert`: Python values ↔ TOML values (a dict is a scenario file's structure);
 //! - `scenario`: the `Scenario` class;
+//! - `simulation`: the `Simulation` class (a run advanced piece by piece);
 //! - `generate`: `zfold`, `grid`, `flasher`;
 //! - `sweep`: the `Sweep` class.
 
 mod convert;
 mod generate;
 mod scenario;
+mod simulation;
 mod sweep;
 
 use pyo3::exceptions::PyKeyboardInterrupt;
@@ -57,6 +59,7 @@ fn check_outputs(inputs: Vec<std::path::PathBuf>, outputs: Vec<(String, std::pat
 fn _foldsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<sweep::Sweep>()?;
+    m.add_class::<simulation::Simulation>()?;
     m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
     m.add_function(wrap_pyfunction!(generate::zfold, m)?)?;
     m.add_function(wrap_pyfunction!(generate::grid, m)?)?;

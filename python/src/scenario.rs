@@ -11,7 +11,7 @@ use pyo3::types::{PyDict, PyFloat, PyInt};
 use std::path::PathBuf;
 
 /// What `run` returns to Python: column names, one array per column, the report.
-type RunOutput<'py> = (Vec<String>, Vec<Bound<'py, PyArray1<f64>>>, Bound<'py, PyDict>);
+pub(crate) type RunOutput<'py> = (Vec<String>, Vec<Bound<'py, PyArray1<f64>>>, Bound<'py, PyDict>);
 
 /// A scenario: a structure, its initial state and run settings (docs/scenario.md).
 #[pyclass(module = "foldsim._foldsim")]
@@ -182,6 +182,13 @@ impl Scenario {
         self.inner.warnings.clone()
     }
 
+    /// Starts a run advanced piece by piece (`Simulation`): `columns` as for `run`.
+    #[pyo3(signature = (columns = None))]
+    fn start(&self, columns: Option<Vec<String>>) -> PyResult<crate::simulation::Simulation> {
+        let scenario = self.text.build().map_err(|e| error(&self.text, self.from_dict, e))?;
+        crate::simulation::Simulation::start(scenario, columns)
+    }
+
     /// Runs the scenario with the GIL released. `columns`: names or patterns as `run.columns`
     /// takes them (default: the scenario's). Returns (names, arrays, report). Ctrl-C stops
     /// the run with KeyboardInterrupt.
@@ -220,97 +227,104 @@ impl Scenario {
             Err(e) => return Err(PyRuntimeError::new_err(e.to_string())),
         };
         let arrays = values.into_iter().map(|v| v.into_pyarray(py)).collect();
-        let d = PyDict::new(py);
-        let drift = &report.drift;
-        d.set_item("simulated", report.simulated)?;
-        d.set_item("wall_seconds", report.wall_seconds)?;
-        d.set_item("steps_accepted", report.steps_accepted)?;
-        d.set_item("steps_rejected", report.steps_rejected)?;
-        d.set_item("newton_failures", report.newton_failures)?;
-        d.set_item("rhs_evaluations", report.rhs_evaluations)?;
-        d.set_item("newton_iterations", report.newton_iterations)?;
-        d.set_item("jacobians", report.jacobians)?;
-        d.set_item("rows", report.rows)?;
-        d.set_item("momentum_drift", drift.momentum)?;
-        d.set_item("angular_momentum_drift", drift.angular_momentum)?;
-        d.set_item("barycenter_drift", drift.barycenter)?;
-        d.set_item("energy_drift", drift.energy)?;
-        d.set_item("energy_initial", drift.energy_initial)?;
-        d.set_item("dissipated", drift.dissipated)?;
-        d.set_item("energy_balance", drift.energy_balance)?;
-        d.set_item("energy_conserving", report.energy_conserving)?;
-        d.set_item("released_at", report.released_at)?;
-        d.set_item("deployed_90", report.deployed_90)?;
-        d.set_item("deployed_start", report.deployed_start)?;
-        d.set_item("deployed_max", report.deployed_max)?;
-        // Contact (None without a [contact] table): the first touch, the deepest penetration
-        // and the largest force, with times and body pairs, and the energy dissipated.
-        let body = |i: usize| s.model.bodies[i].name.clone();
-        match &report.contact {
-            None => d.set_item("contact", py.None())?,
-            Some(c) => {
-                let cd = PyDict::new(py);
-                cd.set_item("first", c.first.map(|(t, a, b)| (t, body(a), body(b))))?;
-                let (depth, t, a, b) = c.deepest;
-                cd.set_item("deepest", (depth > 0.0).then(|| (depth, t, body(a), body(b))))?;
-                let (force, t, a, b) = c.force_max;
-                cd.set_item("force_max", (force > 0.0).then(|| (force, t, body(a), body(b))))?;
-                cd.set_item("dissipated", report.contact_dissipated)?;
-                d.set_item("contact", cd)?;
-            }
-        }
-        // External loads (None without [[load]]): work (J), impulse (N·s) and angular impulse
-        // about N's origin (N·m·s), N frame.
-        match &report.loads {
-            None => d.set_item("loads", py.None())?,
-            Some(l) => {
-                let ld = PyDict::new(py);
-                ld.set_item("work", l.work)?;
-                ld.set_item("impulse", l.impulse_in_n.as_slice().to_vec())?;
-                ld.set_item("angular_impulse", l.angular_impulse_in_n.as_slice().to_vec())?;
-                d.set_item("loads", ld)?;
-            }
-        }
-        // The hub's control (None without [control]): per actuator its largest torque (N·m) and
-        // momentum (N·m·s, wheels), and when its limits first cut it (s, or None).
-        match &s.model.control {
-            None => d.set_item("actuators", py.None())?,
-            Some(c) => {
-                let ad = PyDict::new(py);
-                for (name, rec) in c.actuator_names().iter().zip(&report.actuators) {
-                    let one = PyDict::new(py);
-                    one.set_item("torque_max", rec.effort_max)?;
-                    one.set_item("momentum_max", rec.momentum_max)?;
-                    one.set_item("torque_limit_from", rec.torque_first)?;
-                    one.set_item("torque_limit_time", rec.torque_time)?;
-                    one.set_item("momentum_limit_from", rec.momentum_first)?;
-                    one.set_item("momentum_limit_time", rec.momentum_time)?;
-                    ad.set_item(*name, one)?;
-                }
-                d.set_item("actuators", ad)?;
-            }
-        }
-        let hinge = |i: usize| s.model.hinges[i].name.clone();
-        let events: Vec<(f64, String, String, String)> = report
-            .events
-            .iter()
-            .map(|e| (e.t, hinge(e.hinge), format!("{:?}", e.kind), e.description.clone()))
-            .collect();
-        d.set_item("events", events)?;
-        let latches: Vec<(f64, String)> = report
-            .events
-            .iter()
-            .filter(|e| e.kind == foldsim::law::EventKind::Latch)
-            .map(|e| (e.t, hinge(e.hinge)))
-            .collect();
-        d.set_item("latches", latches)?;
-        let directions = foldsim::law::directional::DIRECTION_NAMES;
-        let locks: Vec<(f64, String, String)> = report
-            .lock_engagements
-            .iter()
-            .map(|(l, t)| (*t, hinge(l.hinge), directions[l.direction].to_string()))
-            .collect();
-        d.set_item("lock_engagements", locks)?;
+        let d = report_dict(py, &s.model, &report)?;
         Ok((selection.names.clone(), arrays, d))
     }
+}
+
+/// A run report as a dict of Python values (docs/python.md).
+pub(crate) fn report_dict<'py>(
+    py: Python<'py>,
+    model: &foldsim::model::Model,
+    report: &foldsim::simulate::RunReport,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let drift = &report.drift;
+    d.set_item("simulated", report.simulated)?;
+    d.set_item("wall_seconds", report.wall_seconds)?;
+    d.set_item("steps_accepted", report.steps_accepted)?;
+    d.set_item("steps_rejected", report.steps_rejected)?;
+    d.set_item("newton_failures", report.newton_failures)?;
+    d.set_item("rhs_evaluations", report.rhs_evaluations)?;
+    d.set_item("newton_iterations", report.newton_iterations)?;
+    d.set_item("jacobians", report.jacobians)?;
+    d.set_item("rows", report.rows)?;
+    d.set_item("momentum_drift", drift.momentum)?;
+    d.set_item("angular_momentum_drift", drift.angular_momentum)?;
+    d.set_item("barycenter_drift", drift.barycenter)?;
+    d.set_item("energy_drift", drift.energy)?;
+    d.set_item("energy_initial", drift.energy_initial)?;
+    d.set_item("dissipated", drift.dissipated)?;
+    d.set_item("energy_balance", drift.energy_balance)?;
+    d.set_item("energy_conserving", report.energy_conserving)?;
+    d.set_item("released_at", report.released_at)?;
+    d.set_item("deployed_90", report.deployed_90)?;
+    d.set_item("deployed_start", report.deployed_start)?;
+    d.set_item("deployed_max", report.deployed_max)?;
+    // Contact (None without a [contact] table): the first touch, the deepest penetration
+    // and the largest force, with times and body pairs, and the energy dissipated.
+    let body = |i: usize| model.bodies[i].name.clone();
+    match &report.contact {
+        None => d.set_item("contact", py.None())?,
+        Some(c) => {
+            let cd = PyDict::new(py);
+            cd.set_item("first", c.first.map(|(t, a, b)| (t, body(a), body(b))))?;
+            let (depth, t, a, b) = c.deepest;
+            cd.set_item("deepest", (depth > 0.0).then(|| (depth, t, body(a), body(b))))?;
+            let (force, t, a, b) = c.force_max;
+            cd.set_item("force_max", (force > 0.0).then(|| (force, t, body(a), body(b))))?;
+            cd.set_item("dissipated", report.contact_dissipated)?;
+            d.set_item("contact", cd)?;
+        }
+    }
+    // External loads (None without [[load]]): work (J), impulse (N·s) and angular impulse
+    // about N's origin (N·m·s), N frame.
+    match &report.loads {
+        None => d.set_item("loads", py.None())?,
+        Some(l) => {
+            let ld = PyDict::new(py);
+            ld.set_item("work", l.work)?;
+            ld.set_item("impulse", l.impulse_in_n.as_slice().to_vec())?;
+            ld.set_item("angular_impulse", l.angular_impulse_in_n.as_slice().to_vec())?;
+            d.set_item("loads", ld)?;
+        }
+    }
+    // The hub's control (None without [control]): per actuator its largest torque (N·m) and
+    // momentum (N·m·s, wheels), and when its limits first cut it (s, or None).
+    match &model.control {
+        None => d.set_item("actuators", py.None())?,
+        Some(c) => {
+            let ad = PyDict::new(py);
+            for (name, rec) in c.actuator_names().iter().zip(&report.actuators) {
+                let one = PyDict::new(py);
+                one.set_item("torque_max", rec.effort_max)?;
+                one.set_item("momentum_max", rec.momentum_max)?;
+                one.set_item("torque_limit_from", rec.torque_first)?;
+                one.set_item("torque_limit_time", rec.torque_time)?;
+                one.set_item("momentum_limit_from", rec.momentum_first)?;
+                one.set_item("momentum_limit_time", rec.momentum_time)?;
+                ad.set_item(*name, one)?;
+            }
+            d.set_item("actuators", ad)?;
+        }
+    }
+    let hinge = |i: usize| model.hinges[i].name.clone();
+    let events: Vec<(f64, String, String, String)> =
+        report.events.iter().map(|e| (e.t, hinge(e.hinge), format!("{:?}", e.kind), e.description.clone())).collect();
+    d.set_item("events", events)?;
+    let latches: Vec<(f64, String)> = report
+        .events
+        .iter()
+        .filter(|e| e.kind == foldsim::law::EventKind::Latch)
+        .map(|e| (e.t, hinge(e.hinge)))
+        .collect();
+    d.set_item("latches", latches)?;
+    let directions = foldsim::law::directional::DIRECTION_NAMES;
+    let locks: Vec<(f64, String, String)> = report
+        .lock_engagements
+        .iter()
+        .map(|(l, t)| (*t, hinge(l.hinge), directions[l.direction].to_string()))
+        .collect();
+    d.set_item("lock_engagements", locks)?;
+    Ok(d)
 }

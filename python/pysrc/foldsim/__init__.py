@@ -29,7 +29,7 @@ from ._foldsim import Scenario as _Scenario
 from ._foldsim import __version__
 from .sweeps import sweep
 
-__all__ = ["Result", "Scenario", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
+__all__ = ["Result", "Scenario", "Simulation", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
 
 
 class Result:
@@ -142,8 +142,92 @@ class Scenario:
                 bar.close()
         return Result(names, arrays, report)
 
+    def start(self, columns: list[str] | str | None = None) -> "Simulation":
+        """Starts a run to advance piece by piece with your own controller in the loop
+        (docs/gnc.md): ``sim = s.start(); sim.advance(0.01); sim.state["w_B_z"]``.
+        `columns` choose what ``result()`` gives, as for ``run``."""
+        return Simulation(self._native.start(_columns(columns)))
+
     def __repr__(self) -> str:
         return f"<foldsim.Scenario {self.title!r}: {len(self.bodies)} bodies, {len(self.hinges)} hinges>"
+
+
+def _columns(columns):
+    if isinstance(columns, str):
+        return [c.strip() for c in columns.split(",") if c.strip()]
+    if columns is not None:
+        columns = list(columns)
+        bad = [c for c in columns if not isinstance(c, str)]
+        if bad:
+            raise TypeError(f"columns takes column names (str), not {type(bad[0]).__name__}")
+    return columns
+
+
+def _vector(value, what: str) -> list[float]:
+    v = [float(x) for x in value]
+    if len(v) != 3:
+        raise ValueError(f"{what} is three numbers [x, y, z], got {len(v)}")
+    return v
+
+
+class Simulation:
+    """A run advanced piece by piece, for a controller outside foldsim (docs/gnc.md).
+
+        sim = scenario.start()
+        while sim.t < 10.0:
+            x = sim.state                       # every output column at sim.t, by name
+            sim.set_torque("hub", my_law(x), frame="body")
+            sim.advance(0.01)                   # integrates to exactly t + 0.01
+        r = sim.result()                        # the rows so far, as Scenario.run gives them
+
+    Commands hold until changed, like the scenario's own loads; their work is in ``W``.
+    """
+
+    def __init__(self, native):
+        self._native = native
+
+    @property
+    def t(self) -> float:
+        """The time reached, s."""
+        return self._native.t
+
+    @property
+    def state(self) -> dict[str, float]:
+        """Every output column at the time reached (docs/outputs.md), by name:
+        ``sim.state["H_z"]``, the hub's quaternion ``q_B_w`` … ``q_B_z``, rates ``w_B_*``."""
+        return self._native.state()
+
+    def advance(self, dt: float) -> None:
+        """Integrates to exactly t + dt (s) with the scenario's adaptive integrator."""
+        self._native.advance(float(dt))
+
+    def set_torque(self, body: str, torque, *, frame: str) -> None:
+        """The torque (N·m) on `body` from now on, in `frame`: "body" (turning with it) or
+        "inertial"; replaces the torque set before."""
+        self._native.set_torque(body, _vector(torque, "torque"), frame)
+
+    def set_force(self, body: str, force, *, frame: str, point=(0.0, 0.0, 0.0)) -> None:
+        """The force (N) on `body` from now on, in `frame`, at `point` (m from its centre
+        of mass, body frame); replaces the force set before."""
+        self._native.set_force(body, _vector(force, "force"), frame, _vector(point, "point"))
+
+    def set_motor(self, name: str, value: float | None) -> None:
+        """A motor's effort (N·m about an angle, N along a displacement) from now on; None
+        gives the motor back to its drive in the scenario."""
+        self._native.set_motor(name, None if value is None else float(value))
+
+    def set_wheel_torque(self, values) -> None:
+        """The control's actuator torques (N·m, one per wheel or thruster, in the scenario's
+        order) from now on, replacing the control law; None gives them back to the law.
+        Each actuator's torque limit still applies."""
+        self._native.set_wheel_torque(None if values is None else [float(v) for v in values])
+
+    def result(self) -> Result:
+        """The output rows so far and the report so far."""
+        return Result(*self._native.result())
+
+    def __repr__(self) -> str:
+        return f"<foldsim.Simulation at t = {self.t} s>"
 
 
 def _interactive() -> bool:

@@ -108,12 +108,20 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     }
     if let Some(l) = &r.loads {
         let v = |x: &foldsim::math::Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", x.x, x.y, x.z);
-        outln!("  external loads   work W {:.6e} J (E + D − W is the constant)", l.work);
-        outln!(
-            "    impulse          ΔP = {} N·s, ΔH = {} N·m·s (about N's origin; the drifts above are net of these)",
-            v(&l.impulse_in_n),
-            v(&l.angular_impulse_in_n)
-        );
+        let model = &scenario.model;
+        if model.has_external() {
+            outln!("  external loads   work W {:.6e} J (loads, torque sources, motors, wheels; E + D − W is the constant)", l.work);
+            outln!(
+                "    impulse          ΔP = {} N·s, ΔH = {} N·m·s (about N's origin; the drifts above are net of these)",
+                v(&l.impulse_in_n),
+                v(&l.angular_impulse_in_n)
+            );
+        } else {
+            outln!(
+                "  motors, wheels   work W {:.6e} J (E + D − W is the constant; internal: P and H are kept)",
+                l.work
+            );
+        }
     }
     if let Some(c) = &scenario.model.control {
         let wheels = c.wheels();

@@ -208,7 +208,10 @@ impl Dynamics<'_> {
             let q = &s[QUAT..QUAT + 4];
             let omega = Vec3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
             reading.sigma_hub = crate::math::mrp_from_quat(&quat_relative(q, &[1.0, 0.0, 0.0, 0.0]));
-            if !matches!(c.law, crate::loads::control::Law::SpinHold { .. }) {
+            if matches!(
+                c.law,
+                crate::loads::control::Law::MrpPd { .. } | crate::loads::control::Law::QuaternionPd { .. }
+            ) {
                 reading.pointing_error = quat_angle(&quat_relative(q, &c.target));
             }
             reading.required_in_hub = required;

@@ -49,6 +49,9 @@ pub enum Law {
         /// Rate gain P, N·m·s.
         p: f64,
     },
+    /// No law: `L = 0`; the actuators act only on commands from outside the run (a stepped
+    /// run's `set_wheel_torque`).
+    None,
 }
 
 /// One reaction wheel on the hub.
@@ -179,6 +182,7 @@ impl Control {
             Law::SpinHold { axis_in_hub, rate, p } => {
                 -(omega_in_hub - axis_in_hub.map(real::<T>) * real::<T>(*rate)) * real::<T>(*p)
             }
+            Law::None => Vector3::zeros(),
         }
     }
 
@@ -274,7 +278,7 @@ pub struct Reading {
     /// With control: the hub's MRPs `σ_{B/N}`, the short way round.
     pub sigma_hub: Vec3,
     /// With control to a target attitude: the angle from the hub to the target, rad in
-    /// [0, π]; NaN for spin hold.
+    /// [0, π]; NaN for spin hold and for no law.
     pub pointing_error: f64,
     /// The law's torque L (held between samples), N·m, hub components.
     pub required_in_hub: Vec3,

@@ -35,7 +35,7 @@ pub(super) struct RawMotor {
 pub(super) struct RawControl {
     law: Spanned<String>,
     k: Option<Spanned<f64>>,
-    p: Spanned<f64>,
+    p: Option<Spanned<f64>>,
     target: Option<Spanned<toml::Value>>,
     spin_axis: Option<Spanned<[f64; 3]>>,
     spin_rate: Option<Spanned<f64>>,
@@ -200,7 +200,10 @@ pub(super) fn add_motors(ctx: &Ctx<'_>, raw: &[RawMotor], model: &mut Model) -> 
 /// inertias).
 pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut Model) -> Result<(), ScenarioError> {
     let r = raw.get_ref();
-    let p = super::values::positive(ctx, &r.p, "control.p", "N·m·s")?;
+    let p = || match &r.p {
+        Some(p) => super::values::positive(ctx, p, "control.p", "N·m·s"),
+        None => Err(ctx.span(&r.law, format!("control: law \"{}\" needs 'p' (N·m·s)", r.law.get_ref()))),
+    };
     let gain_k = || match &r.k {
         Some(k) => super::values::positive(ctx, k, "control.k", "N·m"),
         None => Err(ctx.span(&r.law, format!("control: law \"{}\" needs 'k' (N·m)", r.law.get_ref()))),
@@ -238,8 +241,19 @@ pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut 
         })
     };
     let (law, target) = match r.law.get_ref().as_str() {
-        "mrp_pd" => (Law::MrpPd { k: gain_k()?, p }, needs_target()?),
-        "quaternion_pd" => (Law::QuaternionPd { k: gain_k()?, p }, needs_target()?),
+        "mrp_pd" => (Law::MrpPd { k: gain_k()?, p: p()? }, needs_target()?),
+        "quaternion_pd" => (Law::QuaternionPd { k: gain_k()?, p: p()? }, needs_target()?),
+        "none" => {
+            for (key, v) in [("k", r.k.as_ref().map(|v| v.span())), ("p", r.p.as_ref().map(|v| v.span()))] {
+                if let Some(span) = v {
+                    return Err(ctx.at(Some(span), format!("control: law \"none\" has no gains ('{key}'): its actuators act on commands from a stepped run only")));
+                }
+            }
+            if let Some(t) = &r.target {
+                return Err(ctx.span(t, "control: law \"none\" has no target"));
+            }
+            (Law::None, [1.0, 0.0, 0.0, 0.0])
+        }
         "spin_hold" | "rate_damping" => {
             let damping = r.law.get_ref() == "rate_damping";
             let rate = match (&r.spin_rate, &r.spin_rate_rpm) {
@@ -268,12 +282,12 @@ pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut 
             if let Some(k) = &r.k {
                 return Err(ctx.span(k, "control: 'k' is an attitude gain; spin_hold and rate_damping take 'p' only"));
             }
-            (Law::SpinHold { axis_in_hub: axis, rate, p }, [1.0, 0.0, 0.0, 0.0])
+            (Law::SpinHold { axis_in_hub: axis, rate, p: p()? }, [1.0, 0.0, 0.0, 0.0])
         }
         other => {
             return Err(ctx.span(
                 &r.law,
-                format!("control: 'law' is \"mrp_pd\", \"quaternion_pd\", \"spin_hold\" or \"rate_damping\", got \"{other}\""),
+                format!("control: 'law' is \"mrp_pd\", \"quaternion_pd\", \"spin_hold\", \"rate_damping\" or \"none\", got \"{other}\""),
             ));
         }
     };

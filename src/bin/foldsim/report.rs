@@ -110,7 +110,10 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         let v = |x: &foldsim::math::Vec3| format!("[{:.6e}, {:.6e}, {:.6e}]", x.x, x.y, x.z);
         let model = &scenario.model;
         if model.has_external() {
-            outln!("  external loads   work W {:.6e} J (loads, torque sources, motors, wheels; E + D − W is the constant)", l.work);
+            outln!(
+                "  external loads   work W {:.6e} J (loads, torque sources, motors, wheels; E + D − W is the constant)",
+                l.work
+            );
             outln!(
                 "    impulse          ΔP = {} N·s, ΔH = {} N·m·s (about N's origin; the drifts above are net of these)",
                 v(&l.impulse_in_n),

@@ -572,3 +572,35 @@ fn loop_hinge_branches() {
         &["h1", "[initial.hinge.h1]"],
     );
 }
+
+/// Motors and the hub's control: every bad value named with its line and what is valid.
+#[test]
+fn bad_motors_and_control() {
+    let add = |extra: &'static str| move |g: &str| format!("{g}\n{extra}");
+    let motor = "[[motor]]\nname = \"m\"\nhinge = \"h1\"\n";
+    for (extra, at, words) in [
+        (format!("{motor}direction = \"rz\"\neffort = 1.0\n[[motor]]\nname = \"m\"\nhinge = \"h2\"\ndirection = \"rz\"\neffort = 1.0\n"), "name = \"m\"", vec!["second motor", "'m'"]),
+        (format!("{motor}direction = \"yaw\"\neffort = 1.0\n"), "direction = \"yaw\"", vec!["motor 'm'", "\"rx\"", "yaw"]),
+        ("[[motor]]\nname = \"m\"\nhinge = \"h9\"\ndirection = \"rz\"\neffort = 1.0\n".to_string(), "hinge = \"h9\"", vec!["no hinge 'h9'", "'h1'"]),
+        (format!("{motor}direction = \"rz\"\n"), "name = \"m\"", vec!["either 'effort'", "'target'"]),
+        (format!("{motor}direction = \"rz\"\ntarget = 1.0\nkp = 2.0\n"), "name = \"m\"", vec!["servo needs 'kd'"]),
+        (format!("{motor}direction = \"rz\"\neffort = 1.0\nkp = 2.0\n"), "kp = 2.0", vec!["'kp' belongs to a servo"]),
+        (format!("{motor}direction = \"x\"\ntarget_deg = 3.0\nkp = 1.0\nkd = 1.0\n"), "target_deg", vec!["'target_deg' is for angles"]),
+        (format!("{motor}direction = \"rz\"\ntimes = [0.0, 1.0]\neffort = [1.0]\n"), "effort = [1.0]", vec!["one number per time"]),
+        (format!("{motor}direction = \"rz\"\ntarget = 1.0\nkp = 1.0\nkd = 1.0\nlimit = -1.0\n"), "limit = -1.0", vec!["'limit' must be a finite number > 0"]),
+        ("[control]\nlaw = \"pid\"\np = 1.0\n".to_string(), "law = \"pid\"", vec!["\"mrp_pd\"", "\"spin_hold\"", "pid"]),
+        ("[control]\nlaw = \"mrp_pd\"\np = 1.0\ntarget = [1.0, 0.0, 0.0, 0.0]\n".to_string(), "law = \"mrp_pd\"", vec!["needs 'k'"]),
+        ("[control]\nlaw = \"mrp_pd\"\nk = 1.0\np = 1.0\n".to_string(), "law = \"mrp_pd\"", vec!["needs 'target'"]),
+        ("[control]\nlaw = \"mrp_pd\"\nk = 1.0\np = 1.0\ntarget = [1.0, 0.5, 0.0, 0.0]\n".to_string(), "target =", vec!["unit quaternion"]),
+        ("[control]\nlaw = \"spin_hold\"\np = 1.0\nspin_axis = [0.0, 0.0, 1.0]\n".to_string(), "law = \"spin_hold\"", vec!["'spin_rate'"]),
+        ("[control]\nlaw = \"spin_hold\"\nk = 1.0\np = 1.0\nspin_rate = 1.0\nspin_axis = [0.0, 0.0, 1.0]\n".to_string(), "k = 1.0", vec!["'k' is an attitude gain"]),
+        ("[control]\nlaw = \"none\"\np = 1.0\n".to_string(), "p = 1.0", vec!["no gains"]),
+        ("[control]\nlaw = \"rate_damping\"\np = 1.0\n[[control.wheel]]\nname = \"w\"\naxis = [0.0, 0.0, 0.0]\ninertia = 0.1\n".to_string(), "axis = [0.0, 0.0, 0.0]", vec!["wheel 'w'", "nonzero"]),
+        ("[control]\nlaw = \"rate_damping\"\np = 1.0\n[[control.wheel]]\nname = \"w\"\naxis = [0.0, 0.0, 1.0]\ninertia = 200.0\n".to_string(), "[control]", vec!["body 'hub'", "not positive definite", "include its wheels"]),
+        ("[control]\nlaw = \"rate_damping\"\np = 1.0\n[[control.wheel]]\nname = \"w\"\naxis = [0.0, 0.0, 1.0]\ninertia = 0.1\n[[control.thruster]]\nname = \"t\"\naxis = [1.0, 0.0, 0.0]\n".to_string(), "[control]", vec!["wheels or thrusters, not both"]),
+        ("[control]\nlaw = \"rate_damping\"\np = 1.0\nmax_torque = 1.0\n[[control.wheel]]\nname = \"w\"\naxis = [0.0, 0.0, 1.0]\ninertia = 0.1\n".to_string(), "max_torque = 1.0", vec!["ideal torque's limit"]),
+    ] {
+        let extra: &'static str = Box::leak(extra.into_boxed_str());
+        expect_error(add(extra), Some(at), &words);
+    }
+}

@@ -37,6 +37,18 @@ pub fn unit_of(column: &str) -> &'static str {
         "pairs"
     } else if column == "deployed" {
         "of the design radius"
+    } else if column == "W" {
+        "J"
+    } else if column == "pointing_error" {
+        "rad"
+    } else if xyz("L_req") || (xyz("L") && column.len() == 3) || column.ends_with("_torque") {
+        "N·m"
+    } else if column.ends_with("_speed") {
+        "rad/s"
+    } else if column.ends_with("_h") {
+        "N·m·s"
+    } else if column.ends_with("_effort") {
+        "N·m (N along x, y, z)"
     } else {
         ""
     }

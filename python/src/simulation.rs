@@ -39,8 +39,9 @@ impl Simulation {
         scenario.model.commandable = true;
         let selection = match columns {
             Some(patterns) => Selection::matching(&scenario.model, &patterns).map_err(PyValueError::new_err)?,
-            None => Selection::default_for(&scenario.model),
+            None => scenario.columns.clone(),
         };
+        scenario.settings.hinge_loads = selection.has_hinge_loads();
         let names = Python::attach(|py| {
             catalogue(&scenario.model).into_iter().map(|c| pyo3::types::PyString::new(py, &c.name).unbind()).collect()
         });

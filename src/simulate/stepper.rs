@@ -114,7 +114,7 @@ impl<'m> Stepper<'m> {
     }
 
     /// Every output quantity at the time reached (an output row at `t`, whether or not `t`
-    /// is an output time).
+    /// is an output time), the hinge loads with their locked directions' reactions.
     pub fn current(&mut self) -> Observation {
         let (contact, touched) = match self.dynamics.row_contact(&self.y) {
             Some((summary, touched)) => (Some(summary), touched),
@@ -130,6 +130,14 @@ impl<'m> Stepper<'m> {
         );
         o.touched = touched;
         o.actuators = self.dynamics.actuator_reading(self.t, &self.y);
+        // The hinge-load quantities are whole, as a run's rows that write them: the locked
+        // directions' reactions join the laws' (one more evaluation, with locks only).
+        if self.dynamics.has_locks() {
+            for r in self.dynamics.lock_reactions(&self.y) {
+                o.hinge_force_in_a0[r.hinge] += r.force_in_a0;
+                o.hinge_torque_in_a[r.hinge] += r.torque_in_a;
+            }
+        }
         o
     }
 

@@ -10,10 +10,11 @@
 //!
 //! Layers, lowest first; a module uses only modules above it in this list:
 //! [`math`] (rotations) → [`integrate`] (generic integrators) → [`law`] (hinge laws) →
+//! [`contact`] → [`loads`] (external loads, motors, control) →
 //! [`model`] (static description) → [`state`] (the state vector) → [`kinematics`] (hinge
 //! relative states, initial conditions) → [`dynamics`] (equations of motion, locks, the
 //! exact Jacobian, the hinge-graph Newton matrix) → [`observe`] (outputs) → [`simulate`]
-//! (a run) → [`scenario`] (TOML files) → [`output`] (CSV, plots) → [`generate`]
+//! (a run) → [`linear`] (linear models and modes) → [`scenario`] (TOML files) → [`output`] (CSV, plots) → [`generate`]
 //! (scenario generators) → [`sweep`] (many runs of a scenario, summarised). `tests/layers.rs`
 //! checks it.
 
@@ -25,6 +26,7 @@ pub mod generate;
 pub mod integrate;
 pub mod kinematics;
 pub mod law;
+pub mod linear;
 pub mod loads;
 pub mod math;
 pub mod model;

@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The top-level modules, lowest layer first: each may use only those before it.
-const LAYERS: [&str; 15] = [
+const LAYERS: [&str; 16] = [
     "math",
     "integrate",
     "law",
@@ -24,6 +24,7 @@ const LAYERS: [&str; 15] = [
     "dynamics",
     "observe",
     "simulate",
+    "linear",
     "scenario",
     "output",
     "generate",

@@ -1,0 +1,164 @@
+//! Linear models of a structure about a state (docs/linear.md): the state matrix in minimal
+//! coordinates, from the exact Jacobian of the accelerations (crate::dynamics::jacobian), and
+//! its second-order form `M q̈ + C q̇ + K q = 0` for the modes ([`modes`]).
+//!
+//! **Coordinates.** Per body i, the position perturbation `δR_i` (m, N components) and the
+//! attitude perturbation `δφ_i` (rad, body components: `q_i = q_i0 ⊗ (1, δφ_i/2)`), then the
+//! velocity perturbations `δv_i` (m/s, N) and `δω_i` (rad/s, body). The state is
+//! `x = [δR_0, δφ_0, …, δR_{n−1}, δφ_{n−1}, δv_0, δω_0, …]`: positions first, 12 numbers per
+//! body, no redundant quaternion part. Its equations (the variational equations of the
+//! bodies' kinematics and of Newton–Euler):
+//!
+//! `δṘ = δv − Ω × δR`, `δφ̇ = δω − ω_0 × δφ`, `δv̇ = J_x x_pos + J_v x_vel − Ω × δv`,
+//! `δω̇ = J_x x_pos + J_v x_vel`,
+//!
+//! with `ω_0` each body's rate at the state (body components), `J_x`, `J_v` the exact
+//! Jacobians of the accelerations, and `Ω` the rate of the frame the positions are taken in:
+//! zero (N) for a state of a run, the spin for a structure spinning steadily as one body (a
+//! relative equilibrium: in the frame that turns with it the linear system is constant).
+//!
+//! Locked directions are not supported yet (their constraints would remove coordinates);
+//! nor are the reaction wheels' momenta (the wheels' gyroscopic coupling).
+
+pub mod modes;
+
+use crate::dynamics::Dynamics;
+use crate::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
+use crate::math::{Mat3, Vec3, skew};
+use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, QUAT};
+use nalgebra::{DMatrix, SMatrix};
+
+/// A structure's linear model about one state.
+#[derive(Clone, Debug)]
+pub struct Linearization {
+    /// Number of bodies n.
+    pub bodies: usize,
+    /// `∂(R̈, ω̇)/∂(δR, δφ)`, 6n × 6n (rows per body: R̈ in N, 1/s²; ω̇ in body, rad/s²).
+    pub jx: DMatrix<f64>,
+    /// `∂(R̈, ω̇)/∂(δv, δω)`, 6n × 6n, 1/s.
+    pub jv: DMatrix<f64>,
+    /// Per body: its rate at the state, rad/s, body components.
+    pub omega_in_body: Vec<Vec3>,
+    /// The frame's rate Ω, rad/s, N components (zero: N itself).
+    pub frame_rate: Vec3,
+    /// Per body: mass (kg) and inertia about its centre of mass (kg·m², body frame).
+    pub mass: Vec<(f64, Mat3)>,
+    /// The largest acceleration at the state that the linear model leaves out (zero at an
+    /// equilibrium, or at a relative equilibrium less its centripetal part), m/s² or rad/s².
+    pub residual: f64,
+}
+
+/// `∂q/∂δφ` for `q ⊗ (1, δφ/2)`: `½ [−q_vᵀ; q_w I + [q_v×]]`, 4 × 3.
+fn quaternion_tangent(q: &[f64]) -> SMatrix<f64, 4, 3> {
+    let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+    SMatrix::<f64, 4, 3>::new(-x, -y, -z, w, -z, y, z, w, -x, -y, x, w) * 0.5
+}
+
+impl Linearization {
+    /// The linear model of `dynamics` at state `y` (time as last set), positions taken in a
+    /// frame turning at `frame_rate` (rad/s, N components; zero for N). Fails for models with
+    /// locked directions or reaction wheels, or a law without an exact Jacobian.
+    pub fn at(dynamics: &Dynamics<'_>, y: &[f64], frame_rate: Vec3) -> Result<Self, String> {
+        let model = dynamics.model();
+        if dynamics.has_locks() {
+            return Err("linearisation does not take locked directions yet: give the hinge stiff springs instead (docs/linear.md)".into());
+        }
+        if model.wheel_count() > 0 {
+            return Err("linearisation does not take reaction wheels yet (docs/linear.md)".into());
+        }
+        let n = model.bodies.len();
+        // Unit quaternions: the tangent map below is for them (the dynamics normalise too).
+        let mut y = y.to_vec();
+        for i in 0..n {
+            let q = &mut y[B * i + QUAT..B * i + QUAT + 4];
+            let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            q.iter_mut().for_each(|v| *v /= norm);
+        }
+        let mut jx = DMatrix::zeros(6 * n, 6 * n);
+        let mut jv = DMatrix::zeros(6 * n, 6 * n);
+        let tangents: Vec<SMatrix<f64, 4, 3>> =
+            (0..n).map(|i| quaternion_tangent(&y[B * i + QUAT..B * i + QUAT + 4])).collect();
+        let ok = dynamics.acceleration_jacobian(&y, &mut |i, j, dx: &PoseBlock, dv: &TwistBlock| {
+            let attitude = dx.fixed_columns::<4>(3) * tangents[j];
+            for r in 0..6 {
+                for c in 0..3 {
+                    jx[(6 * i + r, 6 * j + c)] += dx[(r, c)];
+                    jx[(6 * i + r, 6 * j + 3 + c)] += attitude[(r, c)];
+                }
+                for c in 0..6 {
+                    jv[(6 * i + r, 6 * j + c)] += dv[(r, c)];
+                }
+            }
+        });
+        if !ok {
+            return Err("a hinge law has no exact Jacobian (dual form): the linear model needs one".into());
+        }
+        let mut dydt = vec![0.0; y.len()];
+        dynamics.rhs(&y, &mut dydt);
+        let mut residual: f64 = 0.0;
+        let mut omega_in_body = Vec::with_capacity(n);
+        for i in 0..n {
+            let m = BodyMotion::from_state(&y, i);
+            // At a relative equilibrium each body's acceleration is the frame's centripetal
+            // one, Ω × (Ω × R): what is left over the linear model ignores.
+            let centripetal = frame_rate.cross(&frame_rate.cross(&m.r_in_n));
+            let a = Vec3::from_column_slice(&dydt[B * i + crate::state::VEL..B * i + crate::state::VEL + 3]);
+            let alpha = Vec3::from_column_slice(&dydt[B * i + OMEGA..B * i + OMEGA + 3]);
+            residual = residual.max((a - centripetal).amax()).max(alpha.amax());
+            omega_in_body.push(m.omega_in_body());
+        }
+        Ok(Self {
+            bodies: n,
+            jx,
+            jv,
+            omega_in_body,
+            frame_rate,
+            mass: model.bodies.iter().map(|b| (b.mass, b.inertia_in_body)).collect(),
+            residual,
+        })
+    }
+
+    /// The state matrix A (12n × 12n) in the coordinates of the module documentation.
+    pub fn state_matrix(&self) -> DMatrix<f64> {
+        let n6 = 6 * self.bodies;
+        let mut a = DMatrix::zeros(2 * n6, 2 * n6);
+        let spin = skew(&self.frame_rate);
+        for i in 0..self.bodies {
+            let w = skew(&self.omega_in_body[i]);
+            for r in 0..3 {
+                for c in 0..3 {
+                    a[(6 * i + r, 6 * i + c)] = -spin[(r, c)];
+                    a[(6 * i + 3 + r, 6 * i + 3 + c)] = -w[(r, c)];
+                    a[(n6 + 6 * i + r, n6 + 6 * i + c)] -= spin[(r, c)];
+                }
+            }
+        }
+        for k in 0..n6 {
+            a[(k, n6 + k)] += 1.0;
+        }
+        a.view_mut((n6, 0), (n6, n6)).copy_from(&self.jx);
+        let mut lower_right = a.view_mut((n6, n6), (n6, n6));
+        lower_right += &self.jv;
+        a
+    }
+
+    /// The mass matrix M (6n × 6n): per body `m I₃` and its inertia (body frame).
+    pub fn mass_matrix(&self) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(6 * self.bodies, 6 * self.bodies);
+        for (i, (mass, inertia)) in self.mass.iter().enumerate() {
+            for k in 0..3 {
+                m[(6 * i + k, 6 * i + k)] = *mass;
+            }
+            m.view_mut((6 * i + 3, 6 * i + 3), (3, 3)).copy_from(inertia);
+        }
+        m
+    }
+
+    /// Stiffness and damping matrices `K = −M J_x`, `C = −M J_v` (6n × 6n): the second-order
+    /// form `M q̈ + C q̇ + K q = 0` of a static state (no rates). K is symmetric for laws with a
+    /// potential, not for law 1 (docs/linear.md).
+    pub fn stiffness_and_damping(&self) -> (DMatrix<f64>, DMatrix<f64>) {
+        let m = self.mass_matrix();
+        (-(&m * &self.jx), -(&m * &self.jv))
+    }
+}

@@ -1,0 +1,159 @@
+//! Natural modes of a structure at a static state (docs/linear.md): the free-free modes with
+//! the six rigid-body ones set apart, and the modes with the hub held fixed, with their
+//! effective masses and inertias about the hub (what a flexible appendage shows a controller).
+//!
+//! Both from the undamped problem `K φ = ω² M φ` with `K` the symmetric part of the
+//! stiffness (law 1's is not symmetric: docs/linear.md says what that means), solved as the
+//! symmetric eigenproblem of `M^{-1/2} K M^{-1/2}` (nalgebra's `SymmetricEigen`, dense).
+//! Shapes are mass-normalised (`φᵀ M φ = 1`). Damping ratios are modal, `ζ = φᵀ C φ / 2ω`
+//! (C's symmetric part): exact for damping proportional to the modes, a first-order
+//! estimate otherwise.
+
+use super::Linearization;
+use crate::math::{Mat3, Vec3};
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
+
+/// One mode.
+#[derive(Clone, Debug)]
+pub struct Mode {
+    /// Natural frequency ω, rad/s (NaN for an unstable mode, `ω² < 0`).
+    pub omega: f64,
+    /// `ω²`, 1/s² (negative: the state is unstable along this shape).
+    pub eigenvalue: f64,
+    /// Modal damping ratio `φᵀ C φ / 2ω` (NaN for ω = 0).
+    pub damping_ratio: f64,
+    /// The shape, mass-normalised, in the positions' coordinates of the model (6 per body, or
+    /// per body but the hub for hub-fixed modes).
+    pub shape: DVector<f64>,
+    /// A rigid-body mode of the free structure.
+    pub rigid: bool,
+    /// Hub-fixed modes: the effective masses (kg, along the hub's x, y, z) and inertias
+    /// (kg·m², about the hub's axes through its centre of mass); zero for free modes.
+    pub effective: [f64; 6],
+}
+
+impl Mode {
+    /// Natural frequency, Hz.
+    pub fn frequency_hz(&self) -> f64 {
+        self.omega / (2.0 * std::f64::consts::PI)
+    }
+}
+
+/// A structure's modes at a static state.
+#[derive(Clone, Debug)]
+pub struct Modes {
+    /// The free-free modes, ω ascending (the six rigid-body modes first, flagged).
+    pub free: Vec<Mode>,
+    /// The modes with the hub held fixed, ω ascending, with their effective masses.
+    pub hub_fixed: Vec<Mode>,
+    /// The appendages' total mass (kg) and inertia about the hub (kg·m²) in the hub's axes:
+    /// what the hub-fixed modes' effective masses add up to.
+    pub appendage_total: [f64; 6],
+    /// `‖K − Kᵀ‖ / ‖K‖` (Frobenius): how far the stiffness is from symmetric.
+    pub asymmetry: f64,
+}
+
+/// `M^{-1/2}` of a block-diagonal mass matrix given per body (mass, inertia).
+fn inverse_root(mass: &[(f64, Mat3)]) -> DMatrix<f64> {
+    let mut out = DMatrix::zeros(6 * mass.len(), 6 * mass.len());
+    for (i, (m, inertia)) in mass.iter().enumerate() {
+        for k in 0..3 {
+            out[(6 * i + k, 6 * i + k)] = 1.0 / m.sqrt();
+        }
+        let e = SymmetricEigen::new(*inertia);
+        let root =
+            e.eigenvectors * Mat3::from_diagonal(&e.eigenvalues.map(|l| 1.0 / l.sqrt())) * e.eigenvectors.transpose();
+        out.view_mut((6 * i + 3, 6 * i + 3), (3, 3)).copy_from(&root);
+    }
+    out
+}
+
+/// Eigen-solution of `K φ = λ M φ` (K symmetric) with `M^{-1/2}` given: λ ascending, shapes
+/// mass-normalised as columns.
+fn solve(k: &DMatrix<f64>, m_inv_root: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>) {
+    let s = m_inv_root * k * m_inv_root;
+    let s = (&s + s.transpose()) * 0.5;
+    let e = SymmetricEigen::new(s);
+    let mut order: Vec<usize> = (0..e.eigenvalues.len()).collect();
+    order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
+    let shapes = m_inv_root * e.eigenvectors.select_columns(order.iter());
+    (order.iter().map(|&i| e.eigenvalues[i]).collect(), shapes)
+}
+
+/// A mode from its eigenvalue, shape and the damping matrix.
+fn mode(lambda: f64, shape: DVector<f64>, c: &DMatrix<f64>) -> Mode {
+    let omega = if lambda >= 0.0 { lambda.sqrt() } else { f64::NAN };
+    let damping = (shape.transpose() * c * &shape)[(0, 0)];
+    Mode {
+        omega,
+        eigenvalue: lambda,
+        damping_ratio: if omega > 0.0 { damping / (2.0 * omega) } else { f64::NAN },
+        shape,
+        rigid: false,
+        effective: [0.0; 6],
+    }
+}
+
+impl Modes {
+    /// The modes of the linear model `lin` of a static state (every body at rest), whose
+    /// bodies sit at `positions` (m, N) with attitudes `dcm_n_b`.
+    pub fn of(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3]) -> Result<Self, String> {
+        if lin.omega_in_body.iter().any(|w| w.norm() > 0.0) || lin.frame_rate.norm() > 0.0 {
+            return Err("the modes are those of a structure at rest: this state moves (for a spinning structure, use the state matrix's eigenvalues)".into());
+        }
+        let n = lin.bodies;
+        let (k, c) = lin.stiffness_and_damping();
+        let asymmetry = (&k - k.transpose()).norm() / k.norm().max(f64::MIN_POSITIVE);
+        let k = (&k + k.transpose()) * 0.5;
+        let c = (&c + c.transpose()) * 0.5;
+        // Free-free.
+        let (lambda, shapes) = solve(&k, &inverse_root(&lin.mass));
+        let mut free: Vec<Mode> =
+            lambda.iter().enumerate().map(|(j, l)| mode(*l, shapes.column(j).into_owned(), &c)).collect();
+        for m in free.iter_mut().take(6) {
+            m.rigid = true;
+        }
+        // Hub fixed: the hub's six coordinates removed.
+        let keep: Vec<usize> = (6..6 * n).collect();
+        let kc = k.select_rows(keep.iter()).select_columns(keep.iter());
+        let cc = c.select_rows(keep.iter()).select_columns(keep.iter());
+        let (lambda_c, shapes_c) = solve(&kc, &inverse_root(&lin.mass[1..]));
+        // The rigid motion the hub's unit motions give the other bodies: translations along
+        // and rotations about the hub's axes through its centre of mass.
+        let hub_axes = dcm_n_b[0];
+        let mut t = DMatrix::zeros(6 * (n - 1), 6);
+        for i in 1..n {
+            let arm = positions[i] - positions[0];
+            for a in 0..3 {
+                let axis = hub_axes.column(a).into_owned();
+                t.view_mut((6 * (i - 1), a), (3, 1)).copy_from(&axis);
+                t.view_mut((6 * (i - 1), 3 + a), (3, 1)).copy_from(&axis.cross(&arm));
+                t.view_mut((6 * (i - 1) + 3, 3 + a), (3, 1)).copy_from(&(dcm_n_b[i].transpose() * axis));
+            }
+        }
+        let mass_c = {
+            let mut m = DMatrix::zeros(6 * (n - 1), 6 * (n - 1));
+            for (i, (mass, inertia)) in lin.mass[1..].iter().enumerate() {
+                for a in 0..3 {
+                    m[(6 * i + a, 6 * i + a)] = *mass;
+                }
+                m.view_mut((6 * i + 3, 6 * i + 3), (3, 3)).copy_from(inertia);
+            }
+            m
+        };
+        let mt = &mass_c * &t;
+        let total = t.transpose() * &mt;
+        let hub_fixed = lambda_c
+            .iter()
+            .enumerate()
+            .map(|(j, l)| {
+                let shape = shapes_c.column(j).into_owned();
+                let gamma = shape.transpose() * &mt;
+                let mut m = mode(*l, shape, &cc);
+                m.effective = std::array::from_fn(|a| gamma[a] * gamma[a]);
+                m
+            })
+            .collect();
+        Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry })
+    }
+}

@@ -36,10 +36,14 @@ pub struct Simulation {
 impl Simulation {
     /// Starts a stepped run of `scenario` (its model made to take commands).
     pub(crate) fn start(mut scenario: foldsim::scenario::Scenario, columns: Option<Vec<String>>) -> PyResult<Self> {
+        // A scenario without `run.columns` takes the default set of the model as it runs here
+        // (taking commands, so with the work column W).
+        let own_columns = scenario.columns != Selection::default_for(&scenario.model);
         scenario.model.commandable = true;
         let selection = match columns {
             Some(patterns) => Selection::matching(&scenario.model, &patterns).map_err(PyValueError::new_err)?,
-            None => scenario.columns.clone(),
+            None if own_columns => scenario.columns.clone(),
+            None => Selection::default_for(&scenario.model),
         };
         scenario.settings.hinge_loads = selection.has_hinge_loads();
         let names = Python::attach(|py| {

@@ -38,7 +38,23 @@ fn modes_at_start(s: &Scenario) -> Modes {
 #[test]
 fn one_panel_frequency_is_analytic() {
     let (k, ih, ip): (f64, f64, f64) = (10.0, 40.0, 1.5);
-    let text = format!(
+    let s = Scenario::from_toml(&one_panel(k, ih, ip), "one-panel.toml").unwrap_or_else(|e| panic!("{e}"));
+    let modes = modes_at_start(&s);
+    let expected = (k * (ih + ip) / (ih * ip)).sqrt();
+    let free =
+        modes.free.iter().filter(|m| !m.rigid).map(|m| (m.omega / expected - 1.0).abs()).fold(f64::INFINITY, f64::min);
+    let clamped = (k / ip).sqrt();
+    let fixed = modes.hub_fixed.iter().map(|m| (m.omega / clamped - 1.0).abs()).fold(f64::INFINITY, f64::min);
+    println!(
+        "free-free √(k/I_eff) = {expected:.12} rad/s: nearest mode off by {free:.2e}; hub fixed √(k/I_p) = {clamped:.12}: {fixed:.2e}"
+    );
+    assert!(free < 1e-9 && fixed < 1e-9, "{free:e} {fixed:e}");
+}
+
+/// The scenario of [`one_panel_frequency_is_analytic`]: hinge stiffness `k` about z, the
+/// hub's and the panel's inertias about z `ih`, `ip`.
+fn one_panel(k: f64, ih: f64, ip: f64) -> String {
+    format!(
         r#"
 [run]
 duration = 1.0
@@ -65,18 +81,28 @@ a0 = {{ position = [0.0, 0.0, 0.8] }}
 a = {{ child_com = [0.0, 0.0, 0.4] }}
 law = {{ type = "euler-potential", k_f = 1e4, k_theta = [30.0, 25.0, {k:?}] }}
 "#
-    );
-    let s = Scenario::from_toml(&text, "one-panel.toml").unwrap_or_else(|e| panic!("{e}"));
-    let modes = modes_at_start(&s);
-    let expected = (k * (ih + ip) / (ih * ip)).sqrt();
-    let free =
-        modes.free.iter().filter(|m| !m.rigid).map(|m| (m.omega / expected - 1.0).abs()).fold(f64::INFINITY, f64::min);
-    let clamped = (k / ip).sqrt();
-    let fixed = modes.hub_fixed.iter().map(|m| (m.omega / clamped - 1.0).abs()).fold(f64::INFINITY, f64::min);
-    println!(
-        "free-free √(k/I_eff) = {expected:.12} rad/s: nearest mode off by {free:.2e}; hub fixed √(k/I_p) = {clamped:.12}: {fixed:.2e}"
-    );
-    assert!(free < 1e-9 && fixed < 1e-9, "{free:e} {fixed:e}");
+    )
+}
+
+/// `foldsim modes` writes the table (six rigid, six free, six hub-fixed rows for one panel)
+/// with the analytic frequency in it, and refuses a time outside the run.
+#[test]
+fn modes_command_writes_the_table() {
+    let dir = common::tmp("linear", "cli");
+    let scenario = dir.join("one-panel.toml");
+    std::fs::write(&scenario, one_panel(10.0, 40.0, 1.5)).unwrap();
+    let out = common::foldsim().args(["modes", "-q", "-o"]).arg(dir.join("m.csv")).arg(&scenario).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut reader = csv::Reader::from_path(dir.join("m.csv")).unwrap();
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    let kinds: Vec<&str> = rows.iter().map(|r| &r[0]).collect();
+    assert_eq!(kinds.iter().filter(|k| **k == "rigid").count(), 6);
+    assert_eq!(kinds.iter().filter(|k| **k == "free").count(), 6);
+    assert_eq!(kinds.iter().filter(|k| **k == "hub_fixed").count(), 6);
+    let expected = (10.0f64 * 41.5 / 60.0).sqrt();
+    assert!(rows.iter().any(|r| (r[3].parse::<f64>().unwrap() / expected - 1.0).abs() < 1e-9));
+    let bad = common::foldsim().args(["modes", "--at", "5"]).arg(&scenario).output().unwrap();
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("run.duration = 1 s"));
 }
 
 /// A free chain (hub and three panels, law 2, at its stress-free zero configuration): six

@@ -24,7 +24,10 @@ pub mod modes;
 
 use crate::dynamics::Dynamics;
 use crate::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
+use crate::kinematics::InitialConditions;
 use crate::math::{Mat3, Vec3, skew};
+use crate::model::Model;
+use crate::simulate::{RunSettings, Stepper};
 use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, QUAT};
 use nalgebra::{DMatrix, SMatrix};
 
@@ -161,4 +164,45 @@ impl Linearization {
         let m = self.mass_matrix();
         (-(&m * &self.jx), -(&m * &self.jv))
     }
+}
+
+/// A structure's state where it is linearised: its time and how far it is from rest.
+#[derive(Clone, Debug)]
+pub struct Where {
+    /// Time, s.
+    pub t: f64,
+    /// Per body: centre of mass, m, N components.
+    pub positions: Vec<Vec3>,
+    /// Per body: `[N b]`.
+    pub dcm_n_b: Vec<Mat3>,
+    /// The largest body rate, rad/s, and velocity, m/s, there.
+    pub largest_rates: (f64, f64),
+}
+
+/// The linear model of `model` at time `at` (s) of its run from `ic` with `settings` (at its
+/// initial state for `at = 0`), positions in N, and where that is.
+pub fn linearize_at(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    at: f64,
+) -> Result<(Linearization, Where), String> {
+    let mut stepper = Stepper::start(model, ic, settings).map_err(|e| e.to_string())?;
+    if at > 0.0 {
+        stepper.advance(at).map_err(|e| e.to_string())?;
+    }
+    let y = stepper.state();
+    let lin = Linearization::at(stepper.dynamics(), y, Vec3::zeros())?;
+    let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
+    let largest_rates =
+        motions.iter().fold((0.0f64, 0.0f64), |(w, v), m| (w.max(m.omega_in_n.norm()), v.max(m.v_in_n.norm())));
+    Ok((
+        lin,
+        Where {
+            t: stepper.time(),
+            positions: motions.iter().map(|m| m.r_in_n).collect(),
+            dcm_n_b: motions.iter().map(|m| m.dcm_n_b).collect(),
+            largest_rates,
+        },
+    ))
 }

@@ -96,12 +96,17 @@ fn mode(lambda: f64, shape: DVector<f64>, c: &DMatrix<f64>) -> Mode {
 
 impl Modes {
     /// The modes of the linear model `lin` of a static state (every body at rest), whose
-    /// bodies sit at `positions` (m, N) with attitudes `dcm_n_b`.
+    /// bodies sit at `positions` (m, N) with attitudes `dcm_n_b`; at least two bodies.
+    /// The rates of a moving state are left out: the modes are those of its configuration
+    /// (the caller says so when the state moves).
     pub fn of(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3]) -> Result<Self, String> {
-        if lin.omega_in_body.iter().any(|w| w.norm() > 0.0) || lin.frame_rate.norm() > 0.0 {
-            return Err("the modes are those of a structure at rest: this state moves (for a spinning structure, use the state matrix's eigenvalues)".into());
+        if lin.frame_rate.norm() > 0.0 {
+            return Err("the modes are those of a structure at rest in N: for one spinning steadily, use the state matrix's eigenvalues".into());
         }
         let n = lin.bodies;
+        if n < 2 {
+            return Err("a structure of one body has no modes but its rigid motion".into());
+        }
         let (k, c) = lin.stiffness_and_damping();
         let asymmetry = (&k - k.transpose()).norm() / k.norm().max(f64::MIN_POSITIVE);
         let k = (&k + k.transpose()) * 0.5;
@@ -110,8 +115,12 @@ impl Modes {
         let (lambda, shapes) = solve(&k, &inverse_root(&lin.mass));
         let mut free: Vec<Mode> =
             lambda.iter().enumerate().map(|(j, l)| mode(*l, shapes.column(j).into_owned(), &c)).collect();
+        // The six lowest are the rigid-body modes: zero frequency by definition (their ω², at
+        // round-off at an equilibrium, stays in `eigenvalue`).
         for m in free.iter_mut().take(6) {
             m.rigid = true;
+            m.omega = 0.0;
+            m.damping_ratio = f64::NAN;
         }
         // Hub fixed: the hub's six coordinates removed.
         let keep: Vec<usize> = (6..6 * n).collect();

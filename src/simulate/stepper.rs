@@ -70,6 +70,16 @@ impl<'m> Stepper<'m> {
         self.dynamics.model()
     }
 
+    /// The equations of motion, with the run's memory (laws, locks, contact, actuators).
+    pub fn dynamics(&self) -> &Dynamics<'m> {
+        &self.dynamics
+    }
+
+    /// The state vector reached (crate::state).
+    pub fn state(&self) -> &[f64] {
+        &self.y
+    }
+
     /// Integrates to exactly `t + dt` (s). Fails for `dt ≤ 0`, past the run's duration, or
     /// as a whole run fails (the state stays where the failure left it).
     pub fn advance(&mut self, dt: f64) -> Result<(), SimError> {

@@ -108,6 +108,24 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Natural modes of a structure at rest (docs/linear.md): free-free and with the hub held,
+    /// frequencies, damping ratios and the hub-fixed modes' effective masses and inertias
+    /// about the hub, as a CSV table.
+    Modes {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// The table to write (CSV). Default: `<scenario name>-modes.csv` in the current
+        /// directory.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Run the scenario to this time (s) first and take the modes there (default: its
+        /// initial state).
+        #[arg(long, default_value_t = 0.0)]
+        at: f64,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Write a generated structure as a scenario file.
     #[command(allow_negative_numbers = true)]
     Generate {

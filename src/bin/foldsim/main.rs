@@ -1,12 +1,13 @@
 //! `foldsim`: command-line front end of the foldsim library. One file per command:
 //! `args.rs` (what the command line takes), `run.rs` (`run`, with the animation and page
 //! targets), `report.rs` (the end-of-run report), `view.rs` (`animate`, `view`),
-//! `generate.rs` (`generate`), `sweep.rs` (`sweep`).
+//! `generate.rs` (`generate`), `sweep.rs` (`sweep`), `modes.rs` (`modes`).
 
 #[macro_use]
 mod out;
 mod args;
 mod generate;
+mod modes;
 mod report;
 mod run;
 mod sweep;
@@ -43,6 +44,7 @@ fn main() -> ExitCode {
         Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
+        Command::Modes { scenario, output, at, quiet } => modes::modes(&scenario, output, at, quiet),
         Command::Generate {
             shape,
             panel_mass,

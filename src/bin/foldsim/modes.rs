@@ -1,0 +1,108 @@
+//! `foldsim modes`: a structure's natural modes at rest (docs/linear.md), as a CSV table and
+//! a short report.
+
+use foldsim::linear::linearize_at;
+use foldsim::linear::modes::{Mode, Modes};
+use foldsim::output::paths::{check_outputs, write_atomically};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The table's header: one row per mode.
+const HEADER: &str = "kind,index,frequency_hz,omega,omega_squared,damping_ratio,eff_mass_x,eff_mass_y,eff_mass_z,eff_inertia_x,eff_inertia_y,eff_inertia_z";
+
+/// One row of the table.
+fn row(out: &mut String, kind: &str, index: usize, m: &Mode) {
+    let _ = write!(out, "{kind},{index},{},{},{},{}", m.frequency_hz(), m.omega, m.eigenvalue, m.damping_ratio);
+    for e in m.effective {
+        let _ = write!(out, ",{e}");
+    }
+    out.push('\n');
+}
+
+/// `foldsim modes`: linearises the scenario at time `at` of its run, writes the modes' table.
+pub(crate) fn modes(path: &Path, output: Option<PathBuf>, at: f64, quiet: bool) -> Result<(), String> {
+    let scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
+    if !(at >= 0.0 && at <= scenario.settings.duration) {
+        return Err(format!(
+            "--at {at}: the time to take the modes at must lie between 0 and run.duration = {} s",
+            scenario.settings.duration
+        ));
+    }
+    let target = output.unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}-modes.csv"))
+    });
+    check_outputs(&scenario.inputs, &[("-o", &target)])?;
+    let (lin, here) = linearize_at(&scenario.model, &scenario.initial, &scenario.settings, at)?;
+    let modes = Modes::of(&lin, &here.positions, &here.dcm_n_b)?;
+    let mut table = String::from(HEADER);
+    table.push('\n');
+    for (i, m) in modes.free.iter().enumerate() {
+        row(&mut table, if m.rigid { "rigid" } else { "free" }, i, m);
+    }
+    for (i, m) in modes.hub_fixed.iter().enumerate() {
+        row(&mut table, "hub_fixed", i, m);
+    }
+    write_atomically(&target, table.as_bytes())?;
+    if quiet {
+        return Ok(());
+    }
+    let name = scenario.title.as_deref().unwrap_or("");
+    outln!("foldsim modes: {name}");
+    outln!(
+        "  at t = {} s: {} bodies, {} coordinates; residual acceleration {:.3e} (0 at an equilibrium)",
+        here.t,
+        lin.bodies,
+        6 * lin.bodies,
+        lin.residual
+    );
+    let (w, v) = here.largest_rates;
+    if w > 0.0 || v > 0.0 {
+        outln!(
+            "  note: the bodies move there (up to {w:.3e} rad/s, {v:.3e} m/s): these are the modes of the configuration, the rates left out"
+        );
+    }
+    if modes.asymmetry > 1e-12 {
+        outln!(
+            "  note: the stiffness is not symmetric ({:.2e} relative: law 1, or a loaded state away from equilibrium): the modes use its symmetric part (docs/linear.md)",
+            modes.asymmetry
+        );
+    }
+    let rigid = modes.free.iter().filter(|m| m.rigid).map(|m| m.eigenvalue.abs()).fold(0.0, f64::max);
+    let flexible: Vec<&Mode> = modes.free.iter().filter(|m| !m.rigid).collect();
+    if let Some(first) = flexible.first() {
+        outln!(
+            "  free-free: 6 rigid-body modes (ω² up to {rigid:.2e} s⁻², {:.1e} of the first flexible)",
+            rigid / first.eigenvalue
+        );
+    }
+    outln!("    mode  frequency Hz   damping ratio");
+    for (i, m) in flexible.iter().take(10).enumerate() {
+        outln!("    {:>4}  {:>12.6}   {:>13.4e}", i + 1, m.frequency_hz(), m.damping_ratio);
+    }
+    let total = modes.appendage_total;
+    outln!(
+        "  hub fixed: appendages' mass {:.4} kg, inertia about the hub's axes {:.4} {:.4} {:.4} kg·m²",
+        total[0],
+        total[3],
+        total[4],
+        total[5]
+    );
+    outln!("    mode  frequency Hz   effective mass x/y/z (fraction)   effective inertia x/y/z (fraction)");
+    for (i, m) in modes.hub_fixed.iter().take(10).enumerate() {
+        let f = |a: usize| m.effective[a] / total[a].max(f64::MIN_POSITIVE);
+        outln!(
+            "    {:>4}  {:>12.6}   {:.3} {:.3} {:.3}                 {:.3} {:.3} {:.3}",
+            i + 1,
+            m.frequency_hz(),
+            f(0),
+            f(1),
+            f(2),
+            f(3),
+            f(4),
+            f(5)
+        );
+    }
+    outln!("  {} modes -> {}", modes.free.len() + modes.hub_fixed.len(), target.display());
+    Ok(())
+}

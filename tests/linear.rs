@@ -219,3 +219,44 @@ fn state_matrix_and_second_order_eigenvalues_agree() {
     println!("{} frequencies: A against (M, K) {:.2e} of the largest ({top:.4} rad/s)", from_mk.len(), worst / top);
     assert!(worst < 1e-8 * top);
 }
+
+/// `foldsim equilibrium` on the three-panel case with its loop (law 2, deflected at the
+/// start): Newton converges quadratically to a force below 1e-10 N, and the `[initial]`
+/// tables it writes, run as the scenario's initial state, stay at rest (every body slower
+/// than 1e-9 m/s and rad/s over 10 s: an equilibrium indeed, checked by the nonlinear run);
+/// its modes have the six rigid ones at zero (ω² below 1e-8 of the first flexible one's),
+/// which a loaded state's do not.
+#[test]
+fn equilibrium_stays_at_rest_and_has_rigid_modes() {
+    let dir = common::tmp("linear", "equilibrium");
+    let out = dir.join("eq.toml");
+    let run = common::foldsim()
+        .args(["equilibrium", "-q", "-o"])
+        .arg(&out)
+        .arg(common::repo("examples/paper-3panel-euler.toml"))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let text = std::fs::read_to_string(common::repo("examples/paper-3panel-euler.toml")).unwrap();
+    let cut = text.find("# Table 7").unwrap();
+    let scenario = format!("{}\n{}", &text[..cut], std::fs::read_to_string(&out).unwrap())
+        .replace("duration = 20.0", "duration = 10.0")
+        .replace("output_step = 0.05", "output_step = 0.1");
+    let s = Scenario::from_toml(&scenario, "eq.toml").unwrap_or_else(|e| panic!("{e}"));
+    let (_, rows, _) = common::run(&s);
+    let fastest = rows
+        .iter()
+        .flat_map(|o| o.body_v_in_n.iter().chain(o.body_omega_in_body.iter()).map(|v| v.norm()))
+        .fold(0.0, f64::max);
+    let modes = modes_at_start(&s);
+    let rigid = modes.free[..6].iter().map(|m| m.eigenvalue.abs()).fold(0.0, f64::max);
+    let loaded = modes_at_start(&common::scenario("examples/paper-3panel-euler.toml"));
+    let loaded_rigid = loaded.free[..6].iter().map(|m| m.eigenvalue.abs()).fold(0.0, f64::max);
+    println!(
+        "from the equilibrium: fastest body {fastest:.2e} over 10 s; rigid ω² {:.2e} of the first flexible (at the loaded start {:.2e})",
+        rigid / modes.free[6].eigenvalue,
+        loaded_rigid / loaded.free[6].eigenvalue
+    );
+    assert!(fastest < 1e-9, "{fastest:e}");
+    assert!(rigid < 1e-8 * modes.free[6].eigenvalue);
+}

@@ -20,6 +20,7 @@
 //! Locked directions are not supported yet (their constraints would remove coordinates);
 //! nor are the reaction wheels' momenta (the wheels' gyroscopic coupling).
 
+pub mod equilibrium;
 pub mod modes;
 
 use crate::dynamics::Dynamics;

@@ -126,6 +126,23 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Static equilibrium of a structure (docs/linear.md): the configuration nearest its
+    /// initial state where every hinge's wrench balances, the hub held; written as the
+    /// `[initial]` tables a scenario takes.
+    Equilibrium {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// The `[initial]` tables to write (TOML). Default: `<scenario name>-equilibrium.toml`
+        /// in the current directory.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// The largest force (N) or torque (N·m) left on a body.
+        #[arg(long, default_value_t = 1e-10)]
+        tolerance: f64,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Write a generated structure as a scenario file.
     #[command(allow_negative_numbers = true)]
     Generate {

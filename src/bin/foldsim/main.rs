@@ -1,7 +1,7 @@
 //! `foldsim`: command-line front end of the foldsim library. One file per command:
 //! `args.rs` (what the command line takes), `run.rs` (`run`, with the animation and page
 //! targets), `report.rs` (the end-of-run report), `view.rs` (`animate`, `view`),
-//! `generate.rs` (`generate`), `sweep.rs` (`sweep`), `modes.rs` (`modes`).
+//! `generate.rs` (`generate`), `sweep.rs` (`sweep`), `modes.rs` (`modes`, `equilibrium`).
 
 #[macro_use]
 mod out;
@@ -45,6 +45,9 @@ fn main() -> ExitCode {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
         Command::Modes { scenario, output, at, quiet } => modes::modes(&scenario, output, at, quiet),
+        Command::Equilibrium { scenario, output, tolerance, quiet } => {
+            modes::equilibrium(&scenario, output, tolerance, quiet)
+        }
         Command::Generate {
             shape,
             panel_mass,

@@ -1,5 +1,5 @@
 //! `foldsim modes`: a structure's natural modes at rest (docs/linear.md), as a CSV table and
-//! a short report.
+//! a short report; `foldsim equilibrium`: its static equilibrium as `[initial]` tables.
 
 use foldsim::linear::linearize_at;
 use foldsim::linear::modes::{Mode, Modes};
@@ -104,5 +104,41 @@ pub(crate) fn modes(path: &Path, output: Option<PathBuf>, at: f64, quiet: bool) 
         );
     }
     outln!("  {} modes -> {}", modes.free.len() + modes.hub_fixed.len(), target.display());
+    Ok(())
+}
+
+/// `foldsim equilibrium`: Newton from the scenario's initial state to a static equilibrium,
+/// written as `[initial]` tables.
+pub(crate) fn equilibrium(path: &Path, output: Option<PathBuf>, tolerance: f64, quiet: bool) -> Result<(), String> {
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(format!("--tolerance {tolerance}: give a force or torque > 0 (N, N·m)"));
+    }
+    let scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
+    let target = output.unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}-equilibrium.toml"))
+    });
+    check_outputs(&scenario.inputs, &[("-o", &target)])?;
+    let stepper = foldsim::simulate::Stepper::start(&scenario.model, &scenario.initial, &scenario.settings)
+        .map_err(|e| e.to_string())?;
+    let found = foldsim::linear::equilibrium::Equilibrium::near(stepper.dynamics(), stepper.state(), tolerance, 50)?;
+    let ic = &scenario.initial;
+    let text = format!(
+        "# The static equilibrium of {} nearest its initial state (foldsim equilibrium):\n# replace the scenario's [initial] tables with these (every rate zero).\n\n{}",
+        path.display(),
+        found.initial_tables(&scenario.model, (ic.hub_position_in_n, ic.hub_attitude))
+    );
+    write_atomically(&target, text.as_bytes())?;
+    if !quiet {
+        outln!("foldsim equilibrium: {}", scenario.title.as_deref().unwrap_or(""));
+        outln!(
+            "  {} Newton iterations: largest force or torque on a body {:.3e} -> {:.3e}; bodies moved up to {:.4e} m",
+            found.iterations,
+            found.start_residual,
+            found.residual,
+            found.moved
+        );
+        outln!("  [initial] tables -> {}", target.display());
+    }
     Ok(())
 }

@@ -577,6 +577,6 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
     }
 }
 
-mod order;
+pub mod order;
 #[cfg(test)]
 mod tests;

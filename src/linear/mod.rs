@@ -21,7 +21,9 @@
 //! nor are the reaction wheels' momenta (the wheels' gyroscopic coupling).
 
 pub mod equilibrium;
+pub mod lanczos;
 pub mod modes;
+pub mod sparse;
 
 use crate::dynamics::Dynamics;
 use crate::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
@@ -31,16 +33,18 @@ use crate::model::Model;
 use crate::simulate::{RunSettings, Stepper};
 use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, QUAT};
 use nalgebra::{DMatrix, SMatrix};
+use sparse::{Block, BlockMatrix};
+use std::collections::BTreeMap;
 
 /// A structure's linear model about one state.
 #[derive(Clone, Debug)]
 pub struct Linearization {
     /// Number of bodies n.
     pub bodies: usize,
-    /// `∂(R̈, ω̇)/∂(δR, δφ)`, 6n × 6n (rows per body: R̈ in N, 1/s²; ω̇ in body, rad/s²).
-    pub jx: DMatrix<f64>,
-    /// `∂(R̈, ω̇)/∂(δv, δω)`, 6n × 6n, 1/s.
-    pub jv: DMatrix<f64>,
+    /// Per body i, per body j coupled to it: the 6 × 6 blocks of `∂(R̈_i, ω̇_i)/∂(δR_j, δφ_j)`
+    /// (rows: R̈ in N, 1/s²; ω̇ in body, rad/s²) and of `∂(R̈_i, ω̇_i)/∂(δv_j, δω_j)` (1/s):
+    /// the Jacobians `J_x`, `J_v` by block, as sparse as the hinge graph.
+    pub blocks: Vec<BTreeMap<usize, (Block, Block)>>,
     /// Per body: its rate at the state, rad/s, body components.
     pub omega_in_body: Vec<Vec3>,
     /// The frame's rate Ω, rad/s, N components (zero: N itself).
@@ -78,21 +82,17 @@ impl Linearization {
             let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
             q.iter_mut().for_each(|v| *v /= norm);
         }
-        let mut jx = DMatrix::zeros(6 * n, 6 * n);
-        let mut jv = DMatrix::zeros(6 * n, 6 * n);
+        let mut blocks: Vec<BTreeMap<usize, (Block, Block)>> = vec![BTreeMap::new(); n];
         let tangents: Vec<SMatrix<f64, 4, 3>> =
             (0..n).map(|i| quaternion_tangent(&y[B * i + QUAT..B * i + QUAT + 4])).collect();
         let ok = dynamics.acceleration_jacobian(&y, &mut |i, j, dx: &PoseBlock, dv: &TwistBlock| {
             let attitude = dx.fixed_columns::<4>(3) * tangents[j];
-            for r in 0..6 {
-                for c in 0..3 {
-                    jx[(6 * i + r, 6 * j + c)] += dx[(r, c)];
-                    jx[(6 * i + r, 6 * j + 3 + c)] += attitude[(r, c)];
-                }
-                for c in 0..6 {
-                    jv[(6 * i + r, 6 * j + c)] += dv[(r, c)];
-                }
-            }
+            let (bx, bv) = blocks[i].entry(j).or_insert((Block::zeros(), Block::zeros()));
+            let mut position = bx.fixed_columns_mut::<3>(0);
+            position += dx.fixed_columns::<3>(0);
+            let mut turn = bx.fixed_columns_mut::<3>(3);
+            turn += attitude;
+            *bv += dv;
         });
         if !ok {
             return Err("a hinge law has no exact Jacobian (dual form): the linear model needs one".into());
@@ -113,13 +113,56 @@ impl Linearization {
         }
         Ok(Self {
             bodies: n,
-            jx,
-            jv,
+            blocks,
             omega_in_body,
             frame_rate,
             mass: model.bodies.iter().map(|b| (b.mass, b.inertia_in_body)).collect(),
             residual,
         })
+    }
+
+    /// `J_x` (0) or `J_v` (1) as a dense 6n × 6n matrix.
+    fn dense(&self, which: usize) -> DMatrix<f64> {
+        let mut out = DMatrix::zeros(6 * self.bodies, 6 * self.bodies);
+        for (i, row) in self.blocks.iter().enumerate() {
+            for (&j, b) in row {
+                out.view_mut((6 * i, 6 * j), (6, 6)).copy_from(if which == 0 { &b.0 } else { &b.1 });
+            }
+        }
+        out
+    }
+
+    /// `∂(R̈, ω̇)/∂(δR, δφ)`, dense 6n × 6n.
+    pub fn jx(&self) -> DMatrix<f64> {
+        self.dense(0)
+    }
+
+    /// `∂(R̈, ω̇)/∂(δv, δω)`, dense 6n × 6n.
+    pub fn jv(&self) -> DMatrix<f64> {
+        self.dense(1)
+    }
+
+    /// By blocks: the symmetric parts of `K = −M J_x` and `C = −M J_v`, and M (per body
+    /// `m I₃` and its inertia).
+    pub fn blocks_kcm(&self) -> (BlockMatrix, BlockMatrix, BlockMatrix) {
+        let n = self.bodies;
+        let (mut k, mut c, mut m) = (BlockMatrix::new(n), BlockMatrix::new(n), BlockMatrix::new(n));
+        for (i, (mass, inertia)) in self.mass.iter().enumerate() {
+            let mut mb = Block::zeros();
+            for a in 0..3 {
+                mb[(a, a)] = *mass;
+            }
+            mb.fixed_view_mut::<3, 3>(3, 3).copy_from(inertia);
+            m.add(i, i, &mb);
+            for (&j, (bx, bv)) in &self.blocks[i] {
+                let (kb, cb) = (-(mb * bx) * 0.5, -(mb * bv) * 0.5);
+                k.add(i, j, &kb);
+                k.add(j, i, &kb.transpose());
+                c.add(i, j, &cb);
+                c.add(j, i, &cb.transpose());
+            }
+        }
+        (k, c, m)
     }
 
     /// The state matrix A (12n × 12n) in the coordinates of the module documentation.
@@ -140,9 +183,9 @@ impl Linearization {
         for k in 0..n6 {
             a[(k, n6 + k)] += 1.0;
         }
-        a.view_mut((n6, 0), (n6, n6)).copy_from(&self.jx);
+        a.view_mut((n6, 0), (n6, n6)).copy_from(&self.jx());
         let mut lower_right = a.view_mut((n6, n6), (n6, n6));
-        lower_right += &self.jv;
+        lower_right += &self.jv();
         a
     }
 
@@ -163,7 +206,7 @@ impl Linearization {
     /// potential, not for law 1 (docs/linear.md).
     pub fn stiffness_and_damping(&self) -> (DMatrix<f64>, DMatrix<f64>) {
         let m = self.mass_matrix();
-        (-(&m * &self.jx), -(&m * &self.jv))
+        (-(&m * self.jx()), -(&m * self.jv()))
     }
 }
 

@@ -127,31 +127,7 @@ impl Modes {
         let kc = k.select_rows(keep.iter()).select_columns(keep.iter());
         let cc = c.select_rows(keep.iter()).select_columns(keep.iter());
         let (lambda_c, shapes_c) = solve(&kc, &inverse_root(&lin.mass[1..]));
-        // The rigid motion the hub's unit motions give the other bodies: translations along
-        // and rotations about the hub's axes through its centre of mass.
-        let hub_axes = dcm_n_b[0];
-        let mut t = DMatrix::zeros(6 * (n - 1), 6);
-        for i in 1..n {
-            let arm = positions[i] - positions[0];
-            for a in 0..3 {
-                let axis = hub_axes.column(a).into_owned();
-                t.view_mut((6 * (i - 1), a), (3, 1)).copy_from(&axis);
-                t.view_mut((6 * (i - 1), 3 + a), (3, 1)).copy_from(&axis.cross(&arm));
-                t.view_mut((6 * (i - 1) + 3, 3 + a), (3, 1)).copy_from(&(dcm_n_b[i].transpose() * axis));
-            }
-        }
-        let mass_c = {
-            let mut m = DMatrix::zeros(6 * (n - 1), 6 * (n - 1));
-            for (i, (mass, inertia)) in lin.mass[1..].iter().enumerate() {
-                for a in 0..3 {
-                    m[(6 * i + a, 6 * i + a)] = *mass;
-                }
-                m.view_mut((6 * i + 3, 6 * i + 3), (3, 3)).copy_from(inertia);
-            }
-            m
-        };
-        let mt = &mass_c * &t;
-        let total = t.transpose() * &mt;
+        let (mt, total) = hub_influence(lin, positions, dcm_n_b);
         let hub_fixed = lambda_c
             .iter()
             .enumerate()
@@ -165,4 +141,93 @@ impl Modes {
             .collect();
         Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry })
     }
+
+    /// The six rigid-body modes and the `count` lowest flexible ones free-free, and the
+    /// `count` lowest hub-fixed modes with their effective masses, by shift-invert Lanczos on
+    /// the block-sparse K and M ([`super::lanczos`]): for large structures, where the dense
+    /// [`Modes::of`] takes O(n³). The appendages' totals are exact; the hub-fixed effective
+    /// masses add up to the part of them these modes carry. `asymmetry` is not computed (NaN).
+    pub fn lowest(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3], count: usize) -> Result<Self, String> {
+        if lin.frame_rate.norm() > 0.0 {
+            return Err("the modes are those of a structure at rest in N".into());
+        }
+        if lin.bodies < 2 {
+            return Err("a structure of one body has no modes but its rigid motion".into());
+        }
+        let (k, c, m) = lin.blocks_kcm();
+        // A shift just below zero, where the rigid-body modes (λ = 0) and the lowest flexible
+        // ones are the operator's largest eigenvalues: a hundredth of the softest single
+        // coordinate's ω² (a coordinate's own `K_aa / M_aa` bounds the lowest mode from above).
+        let softest = (0..lin.bodies)
+            .flat_map(|i| (0..6).map(move |a| (i, a)))
+            .map(|(i, a)| k.rows[i].get(&i).map_or(0.0, |b| b[(a, a)]) / m.rows[i][&i][(a, a)])
+            .filter(|r| *r > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if !softest.is_finite() {
+            return Err("the structure has no stiffness: every mode is rigid".into());
+        }
+        let shift = -1e-2 * softest;
+        let (lambda, shapes) = super::lanczos::nearest(&k, &m, shift, count + 6)?;
+        let damping = |shape: &DVector<f64>, c: &super::sparse::BlockMatrix| shape.dot(&c.mul(shape));
+        let make = |l: f64, shape: DVector<f64>, c: &super::sparse::BlockMatrix| {
+            let omega = if l >= 0.0 { l.sqrt() } else { f64::NAN };
+            let d = damping(&shape, c);
+            Mode {
+                omega,
+                eigenvalue: l,
+                damping_ratio: if omega > 0.0 { d / (2.0 * omega) } else { f64::NAN },
+                shape,
+                rigid: false,
+                effective: [0.0; 6],
+            }
+        };
+        let mut free: Vec<Mode> =
+            lambda.iter().enumerate().map(|(j, l)| make(*l, shapes.column(j).into_owned(), &c)).collect();
+        for md in free.iter_mut().take(6) {
+            md.rigid = true;
+            md.omega = 0.0;
+            md.damping_ratio = f64::NAN;
+        }
+        let (kc, cc, mc) = (k.without(0), c.without(0), m.without(0));
+        let (lambda_c, shapes_c) = super::lanczos::nearest(&kc, &mc, shift, count)?;
+        let (mt, total) = hub_influence(lin, positions, dcm_n_b);
+        let hub_fixed = lambda_c
+            .iter()
+            .enumerate()
+            .map(|(j, l)| {
+                let shape = shapes_c.column(j).into_owned();
+                let gamma = shape.transpose() * &mt;
+                let mut md = make(*l, shape, &cc);
+                md.effective = std::array::from_fn(|a| gamma[a] * gamma[a]);
+                md
+            })
+            .collect();
+        Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry: f64::NAN })
+    }
+}
+
+/// The rigid motion the hub's unit motions give the other bodies (translations along, and
+/// rotations about, the hub's axes through its centre of mass), `T`, 6(n − 1) × 6: returns
+/// `M T` (the other bodies' mass times it) and `Tᵀ M T` (their mass and inertia about the hub).
+fn hub_influence(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3]) -> (DMatrix<f64>, DMatrix<f64>) {
+    let n = lin.bodies;
+    let hub_axes = dcm_n_b[0];
+    let mut t = DMatrix::zeros(6 * (n - 1), 6);
+    let mut mt = DMatrix::zeros(6 * (n - 1), 6);
+    for i in 1..n {
+        let arm = positions[i] - positions[0];
+        let (mass, inertia) = lin.mass[i];
+        for a in 0..3 {
+            let axis = hub_axes.column(a).into_owned();
+            let turn = dcm_n_b[i].transpose() * axis;
+            t.view_mut((6 * (i - 1), a), (3, 1)).copy_from(&axis);
+            t.view_mut((6 * (i - 1), 3 + a), (3, 1)).copy_from(&axis.cross(&arm));
+            t.view_mut((6 * (i - 1) + 3, 3 + a), (3, 1)).copy_from(&turn);
+            mt.view_mut((6 * (i - 1), a), (3, 1)).copy_from(&(axis * mass));
+            mt.view_mut((6 * (i - 1), 3 + a), (3, 1)).copy_from(&(axis.cross(&arm) * mass));
+            mt.view_mut((6 * (i - 1) + 3, 3 + a), (3, 1)).copy_from(&(inertia * turn));
+        }
+    }
+    let total = t.transpose() * &mt;
+    (mt, total)
 }

@@ -74,7 +74,7 @@ impl Matching<'_> {
 /// the eligible nodes, fill included. Locks that can never be matched come last. (Locked
 /// hinges that close a loop of locked hinges have redundant rows: some pivot is singular
 /// whatever the order, and the factorization says so.)
-pub(super) fn elimination_order(neighbours: &[Vec<usize>], locks: &[(usize, usize)]) -> Vec<usize> {
+pub fn elimination_order(neighbours: &[Vec<usize>], locks: &[(usize, usize)]) -> Vec<usize> {
     let nb = neighbours.len();
     let n_nodes = nb + locks.len();
     let mut adj: Vec<BTreeSet<usize>> =

@@ -27,7 +27,7 @@ pub mod sparse;
 
 use crate::dynamics::Dynamics;
 use crate::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};
-use crate::kinematics::InitialConditions;
+use crate::kinematics::{HingeInitial, InitialConditions};
 use crate::math::{Mat3, Vec3, skew};
 use crate::model::Model;
 use crate::simulate::{RunSettings, Stepper};
@@ -207,6 +207,19 @@ impl Linearization {
     pub fn stiffness_and_damping(&self) -> (DMatrix<f64>, DMatrix<f64>) {
         let m = self.mass_matrix();
         (-(&m * self.jx()), -(&m * self.jv()))
+    }
+}
+
+/// The design state of `model` as initial conditions: every tree hinge's δ and angles zero,
+/// every body at rest, the hub placed as `ic` places it. For a generated structure this is
+/// the deployed design, stress-free where its laws rest at zero (the generators' laws do): an
+/// equilibrium then (`Linearization::residual` says how far from one it is).
+pub fn design_state(model: &Model, ic: &InitialConditions) -> InitialConditions {
+    InitialConditions {
+        hub_position_in_n: ic.hub_position_in_n,
+        hub_attitude: ic.hub_attitude,
+        hinges: model.is_tree_hinge.iter().map(|&t| t.then(HingeInitial::default)).collect(),
+        ..InitialConditions::default()
     }
 }
 

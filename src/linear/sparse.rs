@@ -59,6 +59,16 @@ impl BlockMatrix {
         Self { rows }
     }
 
+    /// The inverse of a block-diagonal matrix (its off-diagonal blocks ignored); `None` if a
+    /// diagonal block is singular.
+    pub fn block_diagonal_inverse(&self) -> Option<Self> {
+        let mut out = Self::new(self.rows.len());
+        for (i, row) in self.rows.iter().enumerate() {
+            out.rows[i].insert(i, row.get(&i)?.try_inverse()?);
+        }
+        Some(out)
+    }
+
     /// Its LU factors in a minimum-degree order; `None` if a pivot block is singular.
     pub fn factor(&self) -> Option<Factors> {
         let n = self.rows.len();

@@ -122,6 +122,16 @@ pub enum Command {
         /// initial state).
         #[arg(long, default_value_t = 0.0)]
         at: f64,
+        /// Take the modes of the design state instead (every tree hinge's δ and angles
+        /// zero, every body at rest, the hub where the scenario starts it): the deployed
+        /// structure of a generated flasher or z-fold, stress-free, an equilibrium.
+        #[arg(long, conflicts_with = "at")]
+        deployed: bool,
+        /// Only the N lowest flexible modes (free-free and hub-fixed), by the sparse
+        /// shift-invert Lanczos solver (docs/linear.md). Default: every mode by the dense
+        /// solver up to 200 bodies, the 20 lowest by Lanczos above.
+        #[arg(long)]
+        count: Option<usize>,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,

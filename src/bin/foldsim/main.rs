@@ -44,7 +44,9 @@ fn main() -> ExitCode {
         Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
-        Command::Modes { scenario, output, at, quiet } => modes::modes(&scenario, output, at, quiet),
+        Command::Modes { scenario, output, at, deployed, count, quiet } => {
+            modes::modes(&scenario, output, modes::Choice { at, deployed, count }, quiet)
+        }
         Command::Equilibrium { scenario, output, tolerance, quiet } => {
             modes::equilibrium(&scenario, output, tolerance, quiet)
         }

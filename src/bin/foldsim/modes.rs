@@ -19,22 +19,48 @@ fn row(out: &mut String, kind: &str, index: usize, m: &Mode) {
     out.push('\n');
 }
 
+/// Where and how `foldsim modes` takes the modes.
+pub(crate) struct Choice {
+    /// Run to this time first, s.
+    pub at: f64,
+    /// The design state instead of the initial one.
+    pub deployed: bool,
+    /// Only this many lowest flexible modes, by Lanczos.
+    pub count: Option<usize>,
+}
+
+/// Bodies above which `foldsim modes` takes the 20 lowest modes by Lanczos unless told.
+const DENSE_BODIES: usize = 200;
+
 /// `foldsim modes`: linearises the scenario at time `at` of its run, writes the modes' table.
-pub(crate) fn modes(path: &Path, output: Option<PathBuf>, at: f64, quiet: bool) -> Result<(), String> {
-    let scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
+pub(crate) fn modes(path: &Path, output: Option<PathBuf>, choice: Choice, quiet: bool) -> Result<(), String> {
+    let Choice { at, deployed, count } = choice;
+    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
     if !(at >= 0.0 && at <= scenario.settings.duration) {
         return Err(format!(
             "--at {at}: the time to take the modes at must lie between 0 and run.duration = {} s",
             scenario.settings.duration
         ));
     }
+    if count == Some(0) {
+        return Err("--count 0: ask for at least one mode".into());
+    }
     let target = output.unwrap_or_else(|| {
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}-modes.csv"))
     });
     check_outputs(&scenario.inputs, &[("-o", &target)])?;
+    if deployed {
+        scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
+    }
     let (lin, here) = linearize_at(&scenario.model, &scenario.initial, &scenario.settings, at)?;
-    let modes = Modes::of(&lin, &here.positions, &here.dcm_n_b)?;
+    let count = count.or((lin.bodies > DENSE_BODIES).then_some(20));
+    let started = std::time::Instant::now();
+    let modes = match count {
+        Some(c) => Modes::lowest(&lin, &here.positions, &here.dcm_n_b, c)?,
+        None => Modes::of(&lin, &here.positions, &here.dcm_n_b)?,
+    };
+    let solve_seconds = started.elapsed().as_secs_f64();
     let mut table = String::from(HEADER);
     table.push('\n');
     for (i, m) in modes.free.iter().enumerate() {
@@ -62,7 +88,7 @@ pub(crate) fn modes(path: &Path, output: Option<PathBuf>, at: f64, quiet: bool) 
             "  note: the bodies move there (up to {w:.3e} rad/s, {v:.3e} m/s): these are the modes of the configuration, the rates left out"
         );
     }
-    if modes.asymmetry > 1e-12 {
+    if modes.asymmetry.is_finite() && modes.asymmetry > 1e-12 {
         outln!(
             "  note: the stiffness is not symmetric ({:.2e} relative: law 1, or a loaded state away from equilibrium): the modes use its symmetric part (docs/linear.md)",
             modes.asymmetry
@@ -103,7 +129,15 @@ pub(crate) fn modes(path: &Path, output: Option<PathBuf>, at: f64, quiet: bool) 
             f(5)
         );
     }
-    outln!("  {} modes -> {}", modes.free.len() + modes.hub_fixed.len(), target.display());
+    let solver = match count {
+        Some(c) => format!("the {c} lowest by shift-invert Lanczos"),
+        None => "all, dense".into(),
+    };
+    outln!(
+        "  {} modes ({solver}, {solve_seconds:.2} s) -> {}",
+        modes.free.len() + modes.hub_fixed.len(),
+        target.display()
+    );
     Ok(())
 }
 

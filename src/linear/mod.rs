@@ -24,6 +24,7 @@ pub mod equilibrium;
 pub mod lanczos;
 pub mod modes;
 pub mod sparse;
+pub mod statespace;
 
 use crate::dynamics::Dynamics;
 use crate::dynamics::jacobian::{ExactJacobian, PoseBlock, TwistBlock};

@@ -5,6 +5,7 @@
 #[cfg(feature = "animation")]
 pub mod animation;
 pub mod csv_sink;
+pub mod npz;
 pub mod paths;
 #[cfg(feature = "plot")]
 pub mod plot;

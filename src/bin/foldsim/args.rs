@@ -136,6 +136,36 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// The linear state-space model `ẋ = A x + B u`, `y = C x + D u` of a structure about a
+    /// state (docs/linear.md), as NumPy's `.npz` (A, B, C, D, y0 and the names of states,
+    /// inputs and outputs) for python-control's `control.ss(A, B, C, D)`.
+    Linearize {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// The model to write (`.npz`). Default: `<scenario name>-linear.npz` in the current
+        /// directory.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Run the scenario to this time (s) first and linearise there (default: its initial
+        /// state).
+        #[arg(long, default_value_t = 0.0)]
+        at: f64,
+        /// Linearise about the design state instead (every tree hinge's δ and angles zero,
+        /// every body at rest).
+        #[arg(long, conflicts_with = "at")]
+        deployed: bool,
+        /// Bodies that take force and torque inputs (their own frames, at their centres of
+        /// mass), by name, comma-separated. Default: the hub.
+        #[arg(long, value_delimiter = ',')]
+        inputs: Option<Vec<String>>,
+        /// Outputs: output column names or patterns (`*`), comma-separated, among those the
+        /// linear model offers (docs/linear.md). Default: the hub's MRPs and rates.
+        #[arg(long, value_delimiter = ',')]
+        outputs: Option<Vec<String>>,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Static equilibrium of a structure (docs/linear.md): the configuration nearest its
     /// initial state where every hinge's wrench balances, the hub held; written as the
     /// `[initial]` tables a scenario takes.

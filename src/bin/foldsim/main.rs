@@ -47,6 +47,9 @@ fn main() -> ExitCode {
         Command::Modes { scenario, output, at, deployed, count, quiet } => {
             modes::modes(&scenario, output, modes::Choice { at, deployed, count }, quiet)
         }
+        Command::Linearize { scenario, output, at, deployed, inputs, outputs, quiet } => {
+            modes::linearize(&scenario, output, modes::Choice { at, deployed, count: None }, (inputs, outputs), quiet)
+        }
         Command::Equilibrium { scenario, output, tolerance, quiet } => {
             modes::equilibrium(&scenario, output, tolerance, quiet)
         }

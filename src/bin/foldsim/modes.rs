@@ -176,3 +176,77 @@ pub(crate) fn equilibrium(path: &Path, output: Option<PathBuf>, tolerance: f64, 
     }
     Ok(())
 }
+
+/// `foldsim linearize`: the state-space model at a state, written as `.npz`.
+pub(crate) fn linearize(
+    path: &Path,
+    output: Option<PathBuf>,
+    choice: Choice,
+    (inputs, outputs): (Option<Vec<String>>, Option<Vec<String>>),
+    quiet: bool,
+) -> Result<(), String> {
+    use foldsim::linear::statespace::{default_outputs, outputs_matching, state_space};
+    use foldsim::output::npz::{Array, npz_bytes};
+    let Choice { at, deployed, .. } = choice;
+    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
+    if !(at >= 0.0 && at <= scenario.settings.duration) {
+        return Err(format!(
+            "--at {at}: the time to linearise at must lie between 0 and run.duration = {} s",
+            scenario.settings.duration
+        ));
+    }
+    let target = output.unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}-linear.npz"))
+    });
+    check_outputs(&scenario.inputs, &[("-o", &target)])?;
+    if deployed {
+        scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
+    }
+    let model = &mut scenario.model;
+    model.commandable = true;
+    let bodies: Vec<usize> = match inputs {
+        None => vec![0],
+        Some(names) => names
+            .iter()
+            .map(|b| {
+                model.bodies.iter().position(|x| &x.name == b).ok_or_else(|| {
+                    let known: Vec<&str> = model.bodies.iter().take(8).map(|x| x.name.as_str()).collect();
+                    format!("--inputs: no body '{b}' (bodies: {}, …)", known.join(", "))
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let outputs = match outputs {
+        None => default_outputs(),
+        Some(p) => outputs_matching(model, &p).map_err(|e| format!("--outputs: {e}"))?,
+    };
+    let ss = state_space(&scenario.model, &scenario.initial, &scenario.settings, at, &bodies, &outputs)?;
+    let bytes = npz_bytes(&[
+        ("A", Array::Matrix(&ss.a)),
+        ("B", Array::Matrix(&ss.b)),
+        ("C", Array::Matrix(&ss.c)),
+        ("D", Array::Matrix(&ss.d)),
+        ("y0", Array::Vector(ss.y0.as_slice())),
+        ("t", Array::Vector(&[ss.t])),
+        ("states", Array::Strings(&ss.states)),
+        ("inputs", Array::Strings(&ss.inputs)),
+        ("outputs", Array::Strings(&ss.outputs)),
+    ])?;
+    write_atomically(&target, &bytes)?;
+    if !quiet {
+        outln!("foldsim linearize: {}", scenario.title.as_deref().unwrap_or(""));
+        outln!(
+            "  at t = {} s: {} states, {} inputs, {} outputs; residual acceleration {:.3e} with the inputs at zero (0 at an equilibrium)",
+            ss.t,
+            ss.states.len(),
+            ss.inputs.len(),
+            ss.outputs.len(),
+            ss.residual
+        );
+        outln!("  inputs: {}", ss.inputs.join(", "));
+        outln!("  outputs: {}", ss.outputs.join(", "));
+        outln!("  A, B, C, D, y0, t, states, inputs, outputs -> {}", target.display());
+    }
+    Ok(())
+}

@@ -10,6 +10,7 @@
 
 mod convert;
 mod generate;
+mod linear;
 mod scenario;
 mod simulation;
 mod sweep;

@@ -182,6 +182,36 @@ impl Scenario {
         self.inner.warnings.clone()
     }
 
+    /// The linear state-space model at time `at` of the run (or the design state with
+    /// `deployed`): a dict of A, B, C, D (NumPy arrays), y0, t, residual and the names of
+    /// states, inputs and outputs (docs/linear.md).
+    #[pyo3(signature = (at = 0.0, deployed = false, inputs = None, outputs = None))]
+    fn linearize<'py>(
+        &self,
+        py: Python<'py>,
+        at: f64,
+        deployed: bool,
+        inputs: Option<Vec<String>>,
+        outputs: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let scenario = self.text.build().map_err(|e| error(&self.text, self.from_dict, e))?;
+        crate::linear::linearize(py, scenario, at, deployed, inputs, outputs)
+    }
+
+    /// The modes at time `at` of the run (or the design state with `deployed`): every mode
+    /// (dense), or the `count` lowest flexible ones (Lanczos) (docs/linear.md).
+    #[pyo3(signature = (at = 0.0, deployed = false, count = None))]
+    fn modes<'py>(
+        &self,
+        py: Python<'py>,
+        at: f64,
+        deployed: bool,
+        count: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let scenario = self.text.build().map_err(|e| error(&self.text, self.from_dict, e))?;
+        crate::linear::modes(py, scenario, at, deployed, count)
+    }
+
     /// Starts a run advanced piece by piece (`Simulation`): `columns` as for `run`.
     #[pyo3(signature = (columns = None))]
     fn start(&self, columns: Option<Vec<String>>) -> PyResult<crate::simulation::Simulation> {

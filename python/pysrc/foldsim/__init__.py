@@ -148,6 +148,32 @@ class Scenario:
         `columns` choose what ``result()`` gives, as for ``run``."""
         return Simulation(self._native.start(_columns(columns)))
 
+    def linearize(
+        self,
+        at: float = 0.0,
+        *,
+        deployed: bool = False,
+        inputs: list[str] | str | None = None,
+        outputs: list[str] | str | None = None,
+    ) -> dict:
+        """The linear state-space model ``ẋ = A x + B u``, ``y = C x + D u`` at time `at` of
+        the run, or about the design state with ``deployed=True`` (docs/linear.md): a dict
+        with ``A``, ``B``, ``C``, ``D`` (NumPy arrays: ``control.ss(m["A"], m["B"], m["C"],
+        m["D"])`` in python-control), ``y0`` (the outputs at the state), ``t``, ``residual``
+        and the names of ``states``, ``inputs`` and ``outputs``. `inputs`: the bodies that
+        take force and torque inputs (default the hub); `outputs`: output column names or
+        patterns (default the hub's MRPs and rates)."""
+        return self._native.linearize(float(at), bool(deployed), _columns(inputs), _columns(outputs))
+
+    def modes(self, at: float = 0.0, *, deployed: bool = False, count: int | None = None) -> dict:
+        """The natural modes at time `at` of the run, or of the design state with
+        ``deployed=True`` (docs/linear.md): ``{"free": …, "hub_fixed": …, "appendage_total":
+        […]}``, each set a dict of arrays ``frequency_hz``, ``omega``, ``omega_squared``,
+        ``damping_ratio``, ``rigid``, ``shapes`` (one column per mode, 6 coordinates per body)
+        and ``effective`` (per mode, the effective masses and inertias about the hub). Every
+        mode by the dense solver, or the `count` lowest flexible ones by Lanczos."""
+        return self._native.modes(float(at), bool(deployed), None if count is None else int(count))
+
     def __repr__(self) -> str:
         return f"<foldsim.Scenario {self.title!r}: {len(self.bodies)} bodies, {len(self.hinges)} hinges>"
 

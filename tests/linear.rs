@@ -5,6 +5,7 @@ mod common;
 
 use foldsim::dynamics::Dynamics;
 use foldsim::linear::Linearization;
+use foldsim::linear::equilibrium::Equilibrium;
 use foldsim::linear::modes::Modes;
 use foldsim::math::{Mat3, Vec3};
 use foldsim::scenario::Scenario;
@@ -442,21 +443,22 @@ fn sparse_lanczos_modes_equal_the_dense_ones() {
 }
 
 /// A panel hinged radially to a spinning hub (held: its mass and inertia 1e9), folding in the
-/// spin plane (lead-lag, about the hinge's z parallel to the spin axis), linearised in the
-/// frame turning with the spin at its relative equilibrium (the hinge stretched by the
-/// centrifugal tension `m Ω² (R + δ + l) = k_f δ`): the state matrix's frequency against the
-/// closed form `ω² = (k + m Ω² R' l)/(I_c + m l²)` (R' = R + δ the hinge's radius; from
-/// `(I_c + m l²) ψ̈ = −k ψ − l T ψ + m Ω² l² ψ`, T the tension), at three spin rates. Bound 2e-7
-/// relative: the closed form is for a pin, the hinge a 1e9 N/m spring (its compliance shifts
-/// ω by ~mΩ²/k_f, 1e-8 here, and 10× that at 1e8 N/m, as measured), the held hub's inertia
-/// (1e-9 of it), and the nonsymmetric eigen-solver's round-off on a matrix whose stiff
-/// directions reach 3e8 s⁻² (~1e-7 over ω², 10× less at 1e8 N/m, as measured).
+/// spin plane (lead-lag, about the hinge's z parallel to the spin axis). From the unstretched
+/// design, `Equilibrium::spinning` finds the relative equilibrium (the hinge stretched by the
+/// centrifugal tension, `k_f δ = m Ω² (R + δ + l)`: δ against that closed form to 1e-6, the
+/// forces left below 1e-6 N, near the round-off of a 1e9 N/m spring, 1e-7 N);
+/// linearised there in the frame turning with the spin, the state matrix's frequency
+/// against the closed form `ω² = (k + m Ω² R' l)/(I_c + m l²)` (R' = R + δ the hinge's
+/// radius; from `(I_c + m l²) ψ̈ = −k ψ − l T ψ + m Ω² l² ψ`, T the tension), at three spin
+/// rates. Bound 2e-7 relative: the closed form is for a pin, the hinge a 1e9 N/m spring (its
+/// compliance shifts ω by ~mΩ²/k_f, 1e-8 here, and 10× that at 1e8 N/m, as measured), the
+/// held hub's inertia (1e-9 of it), and the nonsymmetric eigen-solver's round-off on a
+/// matrix whose stiff directions reach 3e8 s⁻² (~1e-7 over ω², 10× less at 1e8 N/m).
 #[test]
 fn spinning_radial_panel_is_centrifugally_stiffened() {
     let (k, m, ic, r, l, k_f) = (2.0, 3.0, 0.5, 1.5, 0.8, 1e9);
     let mut worst = 0.0f64;
     for spin in [0.0, 0.7, 2.0] {
-        let delta = m * spin * spin * (r + l) / (k_f - m * spin * spin);
         let text = format!(
             r#"
 [run]
@@ -483,28 +485,33 @@ child = "p1"
 a0 = {{ position = [{r:?}, 0.0, 0.0] }}
 a = {{ child_com = [{l:?}, 0.0, 0.0] }}
 law = {{ type = "euler-potential", k_f = {k_f:?}, k_theta = [1e4, 1e4, {k:?}] }}
-
-[initial.hub]
-omega = [0.0, 0.0, {spin:?}]
-
-[initial.hinge.h1]
-delta = [{delta:?}, 0.0, 0.0]
 "#
         );
         let s = Scenario::from_toml(&text, "spinning.toml").unwrap_or_else(|e| panic!("{e}"));
         let (d, y) = at_start(&s);
-        let panel = BodyMotion::from_state(&y, 1);
-        assert!((panel.r_in_n - Vec3::new(r + delta + l, 0.0, 0.0)).norm() < 1e-12, "{:?}", panel.r_in_n);
-        let lin = Linearization::at(&d, &y, Vec3::new(0.0, 0.0, spin)).unwrap();
+        let omega = Vec3::new(0.0, 0.0, spin);
+        let found = Equilibrium::spinning(&d, &y, omega, 1e-6, 20).unwrap();
+        let delta = m * spin * spin * (r + l) / (k_f - m * spin * spin);
+        let stretch = found.hinges[0].0;
+        let delta_error = if spin > 0.0 { (stretch - Vec3::new(delta, 0.0, 0.0)).norm() / delta } else { 0.0 };
+        d.accept(0.0, &found.y).unwrap();
+        let lin = Linearization::at(&d, &found.y, omega).unwrap();
         let expected = ((k + m * spin * spin * (r + delta) * l) / (ic + m * l * l)).sqrt();
         let eigen = lin.state_matrix().complex_eigenvalues();
-        let nearest =
-            eigen.iter().map(|e| (e.im.abs() / expected - 1.0).abs().max(e.re.abs() / expected)).fold(f64::INFINITY, f64::min);
+        let nearest = eigen
+            .iter()
+            .map(|e| (e.im.abs() / expected - 1.0).abs().max(e.re.abs() / expected))
+            .fold(f64::INFINITY, f64::min);
         println!(
-            "Ω = {spin} rad/s: lead-lag ω = {expected:.9} rad/s (unspun {:.9}); state matrix off by {nearest:.2e}; residual {:.1e}",
+            "Ω = {spin} rad/s: stretch {:.6e} m ({delta_error:.1e} from the closed form, {} Newton iterations); lead-lag ω = {expected:.9} rad/s (unspun {:.9}); state matrix off by {nearest:.2e}; residual {:.1e}",
+            stretch.x,
+            found.iterations,
             (k / (ic + m * l * l)).sqrt(),
             lin.residual
         );
+        if spin > 0.0 {
+            assert!(delta_error < 1e-6, "{delta_error:e}");
+        }
         worst = worst.max(nearest);
     }
     assert!(worst < 2e-7, "{worst:e}");

@@ -11,7 +11,7 @@
 use super::Linearization;
 use crate::dynamics::Dynamics;
 use crate::kinematics::hinge_kinematics;
-use crate::math::{Euler321, Vec3};
+use crate::math::{Euler321, Vec3, skew};
 use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, POS, QUAT, VEL};
 use nalgebra::{DMatrix, DVector};
 use std::fmt::Write as _;
@@ -33,23 +33,41 @@ pub struct Equilibrium {
     pub hinges: Vec<(Vec3, Euler321)>,
 }
 
-/// The forces and torques on every body but the hub at rest (N; N·m, body frame), as one
-/// vector of 6(n − 1).
-fn imbalance(dynamics: &Dynamics<'_>, y: &[f64]) -> DVector<f64> {
+/// The forces and torques on every body but the hub (N; N·m, body frame), as one vector of
+/// 6(n − 1): `m (R̈ − a)` and `I ω̇`, with `a = Ω × (Ω × (R − R_hub))` the centripetal
+/// acceleration of a steady spin at `spin` (rad/s, N; zero: at rest).
+fn imbalance(dynamics: &Dynamics<'_>, y: &[f64], spin: &Vec3) -> DVector<f64> {
     let model = dynamics.model();
     let mut dydt = vec![0.0; y.len()];
     dynamics.rhs(y, &mut dydt);
     let n = model.bodies.len();
+    let hub = BodyMotion::from_state(y, 0).r_in_n;
     DVector::from_fn(6 * (n - 1), |k, _| {
         let (i, r) = (1 + k / 6, k % 6);
         let b = &model.bodies[i];
         if r < 3 {
-            b.mass * dydt[B * i + VEL + r]
+            let arm = BodyMotion::from_state(y, i).r_in_n - hub;
+            b.mass * (dydt[B * i + VEL + r] - spin.cross(&spin.cross(&arm))[r])
         } else {
             let alpha = Vec3::from_column_slice(&dydt[B * i + OMEGA..B * i + OMEGA + 3]);
             (b.inertia_in_body * alpha)[r - 3]
         }
     })
+}
+
+/// The rates of a steady spin at `spin` (rad/s, N) about the hub's centre of mass: every
+/// body's `ω = spin` (body components) and `Ṙ = spin × (R − R_hub)`, the hub's velocity zero.
+fn spin_rates(y: &mut [f64], spin: &Vec3) {
+    let n = y.len() / B;
+    let hub = BodyMotion::from_state(y, 0).r_in_n;
+    for i in 0..n {
+        let m = BodyMotion::from_state(y, i);
+        let (v, w) = (spin.cross(&(m.r_in_n - hub)), m.dcm_n_b.transpose() * spin);
+        for c in 0..3 {
+            y[B * i + VEL + c] = v[c];
+            y[B * i + OMEGA + c] = w[c];
+        }
+    }
 }
 
 /// Moves every body but the hub by `step` (6 per body: ΔR in N, Δφ in body components).
@@ -77,12 +95,48 @@ fn moved(y: &[f64], step: &DVector<f64>, scale: f64) -> Vec<f64> {
     z
 }
 
+/// `K_Ω = −M (J_x + J_v S − [Ω×]²)` (6n × 6n): the stiffness of a steady spin at `spin`
+/// (rad/s, N), the rates slaved to the positions by S (per body `δṘ = Ω × δR` and
+/// `δω = [ω×] δφ`, ω its rate in body components: `δ(Cᵀ Ω) = [CᵀΩ ×] δφ` for `C → C(I + [δφ×])`);
+/// at rest `K = −M J_x`.
+fn spinning_stiffness(lin: &Linearization, y: &[f64], spin: &Vec3) -> DMatrix<f64> {
+    let n = lin.bodies;
+    let mut s = DMatrix::zeros(6 * n, 6 * n);
+    let mut centripetal = DMatrix::zeros(6 * n, 6 * n);
+    let turn = skew(spin);
+    for i in 0..n {
+        let omega_body = BodyMotion::from_state(y, i).dcm_n_b.transpose() * spin;
+        s.view_mut((6 * i, 6 * i), (3, 3)).copy_from(&turn);
+        s.view_mut((6 * i + 3, 6 * i + 3), (3, 3)).copy_from(&skew(&omega_body));
+        centripetal.view_mut((6 * i, 6 * i), (3, 3)).copy_from(&(turn * turn));
+    }
+    let m = lin.mass_matrix();
+    -(&m * (lin.jx() + lin.jv() * s - centripetal))
+}
+
 impl Equilibrium {
     /// The static equilibrium nearest `y0` (rates set to zero), the hub held: Newton until the
     /// largest force or torque on a body is below `tolerance` (N, N·m), at most
     /// `max_iterations`. Fails for a structure with loads or control (no static balance
     /// without them), locks, or when Newton stalls.
     pub fn near(dynamics: &Dynamics<'_>, y0: &[f64], tolerance: f64, max_iterations: usize) -> Result<Self, String> {
+        Self::spinning(dynamics, y0, Vec3::zeros(), tolerance, max_iterations)
+    }
+
+    /// The relative equilibrium nearest `y0` of the structure spinning steadily at `spin`
+    /// (rad/s, N components) about an axis through the hub's centre of mass, the hub held
+    /// (with `spin` zero: the static equilibrium, as [`Self::near`]): the configuration where
+    /// every body's hinge wrenches give it the centripetal acceleration `Ω × (Ω × r)` and no
+    /// angular acceleration (centrifugal stiffening and the stretch of every hinge by it).
+    /// Newton on `K_Ω = −M (J_x + J_v S − [Ω×]²)`, S the rates' dependence on the positions
+    /// (`δṘ = Ω × δR`, `δω = [ω×] δφ`): the exact Jacobian with the rates slaved to the spin.
+    pub fn spinning(
+        dynamics: &Dynamics<'_>,
+        y0: &[f64],
+        spin: Vec3,
+        tolerance: f64,
+        max_iterations: usize,
+    ) -> Result<Self, String> {
         let model = dynamics.model();
         if model.has_work() {
             return Err("an equilibrium of a structure with loads, motors or control: remove them (the structure's own balance is what is solved for)".into());
@@ -92,14 +146,9 @@ impl Equilibrium {
             return Err("a structure of one body is in equilibrium anywhere".into());
         }
         let mut y = y0.to_vec();
-        for i in 0..n {
-            for c in 0..3 {
-                y[B * i + VEL + c] = 0.0;
-                y[B * i + OMEGA + c] = 0.0;
-            }
-        }
+        spin_rates(&mut y, &spin);
         dynamics.accept(0.0, &y)?;
-        let mut f = imbalance(dynamics, &y);
+        let mut f = imbalance(dynamics, &y, &spin);
         let start_residual = f.amax();
         let mut iterations = 0;
         while f.amax() > tolerance {
@@ -111,16 +160,17 @@ impl Equilibrium {
             }
             iterations += 1;
             let lin = Linearization::at(dynamics, &y, Vec3::zeros())?;
-            let (k, _) = lin.stiffness_and_damping();
+            let k = spinning_stiffness(&lin, &y, &spin);
             let keep: Vec<usize> = (6..6 * n).collect();
             let kc: DMatrix<f64> = k.select_rows(keep.iter()).select_columns(keep.iter());
             let step = kc.lu().solve(&f).ok_or("the stiffness with the hub held is singular: the structure is a mechanism (a direction with no stiffness) and has no isolated equilibrium")?;
             // Halve the step while the imbalance does not shrink.
             let mut scale = 1.0;
             loop {
-                let z = moved(&y, &step, scale);
+                let mut z = moved(&y, &step, scale);
+                spin_rates(&mut z, &spin);
                 dynamics.accept(0.0, &z)?;
-                let g = imbalance(dynamics, &z);
+                let g = imbalance(dynamics, &z, &spin);
                 if g.amax() < f.amax() || scale < 1e-6 {
                     y = z;
                     f = g;
@@ -151,15 +201,18 @@ impl Equilibrium {
     }
 
     /// The equilibrium as `[initial]` tables a scenario takes (docs/scenario.md): the hub as
-    /// `hub` gives it (position in N, m; attitude, rad), every tree hinge's δ and angles, and
-    /// every loop hinge's angles (which pick its branch at ±180°).
+    /// `hub` gives it (position in N, m; attitude, rad) with its rate at the equilibrium
+    /// (rad/s, hub components: the spin, or zero), every tree hinge's δ and angles, and every
+    /// loop hinge's angles (which pick its branch at ±180°).
     pub fn initial_tables(&self, model: &crate::model::Model, hub: (Vec3, Euler321)) -> String {
         let mut s = String::new();
         let (r, a) = hub;
+        let w = BodyMotion::from_state(&self.y, 0);
+        let w = w.dcm_n_b.transpose() * w.omega_in_n;
         let _ = writeln!(
             s,
-            "[initial.hub]\nposition = [{:?}, {:?}, {:?}]\nyaw = {:?}\npitch = {:?}\nroll = {:?}\n",
-            r.x, r.y, r.z, a.yaw, a.pitch, a.roll
+            "[initial.hub]\nposition = [{:?}, {:?}, {:?}]\nyaw = {:?}\npitch = {:?}\nroll = {:?}\nomega = [{:?}, {:?}, {:?}]\n",
+            r.x, r.y, r.z, a.yaw, a.pitch, a.roll, w.x, w.y, w.z
         );
         for (i, h) in model.hinges.iter().enumerate() {
             let (d, t) = self.hinges[i];

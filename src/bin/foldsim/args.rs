@@ -179,6 +179,11 @@ pub enum Command {
         /// The largest force (N) or torque (N·m) left on a body.
         #[arg(long, default_value_t = 1e-10)]
         tolerance: f64,
+        /// Find the relative equilibrium of the structure spinning steadily at this rate
+        /// (rad/s) about the hub's z axis through its centre of mass (centrifugal stiffening,
+        /// every hinge stretched by it); the tables then start the hub at that rate.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        spin_rate: f64,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,

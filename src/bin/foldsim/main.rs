@@ -50,8 +50,8 @@ fn main() -> ExitCode {
         Command::Linearize { scenario, output, at, deployed, inputs, outputs, quiet } => {
             modes::linearize(&scenario, output, modes::Choice { at, deployed, count: None }, (inputs, outputs), quiet)
         }
-        Command::Equilibrium { scenario, output, tolerance, quiet } => {
-            modes::equilibrium(&scenario, output, tolerance, quiet)
+        Command::Equilibrium { scenario, output, tolerance, spin_rate, quiet } => {
+            modes::equilibrium(&scenario, output, tolerance, spin_rate, quiet)
         }
         Command::Generate {
             shape,

@@ -143,9 +143,18 @@ pub(crate) fn modes(path: &Path, output: Option<PathBuf>, choice: Choice, quiet:
 
 /// `foldsim equilibrium`: Newton from the scenario's initial state to a static equilibrium,
 /// written as `[initial]` tables.
-pub(crate) fn equilibrium(path: &Path, output: Option<PathBuf>, tolerance: f64, quiet: bool) -> Result<(), String> {
+pub(crate) fn equilibrium(
+    path: &Path,
+    output: Option<PathBuf>,
+    tolerance: f64,
+    spin_rate: f64,
+    quiet: bool,
+) -> Result<(), String> {
     if !(tolerance > 0.0 && tolerance.is_finite()) {
         return Err(format!("--tolerance {tolerance}: give a force or torque > 0 (N, N·m)"));
+    }
+    if !spin_rate.is_finite() {
+        return Err(format!("--spin-rate {spin_rate}: give a rate in rad/s"));
     }
     let scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
     let target = output.unwrap_or_else(|| {
@@ -155,10 +164,18 @@ pub(crate) fn equilibrium(path: &Path, output: Option<PathBuf>, tolerance: f64, 
     check_outputs(&scenario.inputs, &[("-o", &target)])?;
     let stepper = foldsim::simulate::Stepper::start(&scenario.model, &scenario.initial, &scenario.settings)
         .map_err(|e| e.to_string())?;
-    let found = foldsim::linear::equilibrium::Equilibrium::near(stepper.dynamics(), stepper.state(), tolerance, 50)?;
+    let hub = foldsim::state::BodyMotion::from_state(stepper.state(), 0);
+    let spin = hub.dcm_n_b.column(2) * spin_rate;
+    let found =
+        foldsim::linear::equilibrium::Equilibrium::spinning(stepper.dynamics(), stepper.state(), spin, tolerance, 50)?;
     let ic = &scenario.initial;
     let text = format!(
-        "# The static equilibrium of {} nearest its initial state (foldsim equilibrium):\n# replace the scenario's [initial] tables with these (every rate zero).\n\n{}",
+        "# The {} equilibrium of {} nearest its initial state (foldsim equilibrium):\n# replace the scenario's [initial] tables with these.\n\n{}",
+        if spin_rate == 0.0 {
+            "static".to_string()
+        } else {
+            format!("relative (spinning at {spin_rate} rad/s about the hub's z)")
+        },
         path.display(),
         found.initial_tables(&scenario.model, (ic.hub_position_in_n, ic.hub_attitude))
     );

@@ -203,3 +203,42 @@ fn linearize_command_writes_npz() {
     let bad = common::foldsim().args(["linearize", "--inputs", "nobody"]).arg(&scenario).output().unwrap();
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("no body 'nobody'"));
 }
+
+/// Reaction wheels: their spin momenta join the state after the bodies' coordinates. A
+/// wheel's motor torque u is its momentum's rate (`ḣ = u`, B's wheel row) and turns the hub
+/// by `−I_hub⁻¹ g u` (I_hub without the wheels' spin inertias, docs/gnc.md), so the total
+/// angular momentum holds: `I_hub δω̇ + g ḣ = 0`; a wheel's momentum turns a spinning hub
+/// by its gyroscopic reaction, `∂ω̇/∂h = −I_hub⁻¹ (ω × g)` (A's wheel column). Bound 1e-12
+/// (exact up to rounding: both enter affinely).
+#[test]
+fn wheels_join_the_state() {
+    let text = std::fs::read_to_string(common::repo("examples/paper-3panel-euler.toml")).unwrap();
+    let wheels = "\n[control]\nlaw = \"none\"\n\n[[control.wheel]]\nname = \"rw1\"\naxis = [0.0, 0.6, 0.8]\ninertia = 0.05\nspeed = 30.0\n\n[[control.wheel]]\nname = \"rw2\"\naxis = [1.0, 0.0, 0.0]\ninertia = 0.05\n";
+    let mut s = Scenario::from_toml(&format!("{text}{wheels}"), "wheels.toml").unwrap_or_else(|e| panic!("{e}"));
+    s.initial.hub_omega_in_hub = Vec3::new(0.05, -0.02, 0.1);
+    s.model.commandable = true;
+    let outputs = vec!["w_B_x".to_string(), "rw1_h".to_string()];
+    let ss = state_space(&s.model, &s.initial, &s.settings, 0.2, &[0], &outputs).unwrap();
+    let n = s.model.bodies.len();
+    assert_eq!(ss.a.nrows(), 12 * n + 2);
+    assert_eq!(ss.states[12 * n], "rw1_h (N·m·s, about its axis)");
+    assert_eq!(&ss.inputs[6..], ["rw1_torque", "rw2_torque"]);
+    let hub = BodyMotion::from_state(&ss.state, 0);
+    let omega = hub.dcm_n_b.transpose() * hub.omega_in_n;
+    let inertia = s.model.bodies[0].inertia_in_body;
+    let axes = [Vec3::new(0.0, 0.6, 0.8), Vec3::new(1.0, 0.0, 0.0)];
+    let mut worst = 0.0f64;
+    for (k, g) in axes.iter().enumerate() {
+        let turn = Vec3::new(ss.b[(6 * n + 3, 6 + k)], ss.b[(6 * n + 4, 6 + k)], ss.b[(6 * n + 5, 6 + k)]);
+        worst = worst.max((inertia * turn + g * ss.b[(12 * n + k, 6 + k)]).norm());
+        worst = worst.max((ss.b[(12 * n + k, 6 + k)] - 1.0).abs());
+        let gyro =
+            Vec3::new(ss.a[(6 * n + 3, 12 * n + k)], ss.a[(6 * n + 4, 12 * n + k)], ss.a[(6 * n + 5, 12 * n + k)]);
+        worst = worst.max((inertia * gyro + omega.cross(g)).norm());
+    }
+    // The output rw1_h reads the state's wheel momentum.
+    assert_eq!(ss.c[(1, 12 * n)], 1.0);
+    assert!((ss.y0[1] - ss.state[foldsim::state::wheel_index(&s.model)]).abs() == 0.0);
+    println!("wheels: ḣ = u, I δω̇ + g ḣ = 0 and the gyroscopic column to {worst:.2e}");
+    assert!(worst < 1e-12, "{worst:e}");
+}

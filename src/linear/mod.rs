@@ -17,8 +17,9 @@
 //! zero (N) for a state of a run, the spin for a structure spinning steadily as one body (a
 //! relative equilibrium: in the frame that turns with it the linear system is constant).
 //!
-//! Locked directions are not supported yet (their constraints would remove coordinates);
-//! nor are the reaction wheels' momenta (the wheels' gyroscopic coupling).
+//! Locked directions are not supported yet (their constraints would remove coordinates).
+//! Reaction wheels' momenta are held at their values at the state here (the bodies' part);
+//! [`statespace`] adds them as states.
 
 pub mod equilibrium;
 pub mod lanczos;
@@ -66,14 +67,12 @@ fn quaternion_tangent(q: &[f64]) -> SMatrix<f64, 4, 3> {
 impl Linearization {
     /// The linear model of `dynamics` at state `y` (time as last set), positions taken in a
     /// frame turning at `frame_rate` (rad/s, N components; zero for N). Fails for models with
-    /// locked directions or reaction wheels, or a law without an exact Jacobian.
+    /// locked directions, or a law without an exact Jacobian. Reaction wheels' momenta are
+    /// held (their own coordinates are [`statespace`]'s).
     pub fn at(dynamics: &Dynamics<'_>, y: &[f64], frame_rate: Vec3) -> Result<Self, String> {
         let model = dynamics.model();
         if dynamics.has_locks() {
             return Err("linearisation does not take locked directions yet: give the hinge stiff springs instead (docs/linear.md)".into());
-        }
-        if model.wheel_count() > 0 {
-            return Err("linearisation does not take reaction wheels yet (docs/linear.md)".into());
         }
         let n = model.bodies.len();
         // Unit quaternions: the tangent map below is for them (the dynamics normalise too).

@@ -1,7 +1,8 @@
 //! The state-space model for control design (docs/linear.md): `ẋ = A x + B u`, `y = C x + D u`
 //! about a state of a run, with x the minimal coordinates of [`super::Linearization`], u the
 //! inputs a controller drives (forces and torques on chosen bodies, the motors' efforts, the
-//! control's torque sources), y the output columns the user names (deviations from their
+//! control's wheels' motor torques and torque sources), and with reaction wheels their spin
+//! momenta after the bodies' coordinates in x, y the output columns the user names (deviations from their
 //! values at the state, which come with the model as `y0`).
 //!
 //! The model is the open-loop plant: motors' drives and the control's law are replaced by
@@ -32,11 +33,12 @@ use nalgebra::{DMatrix, DVector, SMatrix};
 /// A linear time-invariant model with named states, inputs and outputs.
 #[derive(Clone, Debug)]
 pub struct StateSpace {
-    /// State matrix, 12n × 12n (1/s and 1/s²; docs/linear.md for the coordinates).
+    /// State matrix, (12n + w) × (12n + w) (1/s and 1/s²; docs/linear.md for the
+    /// coordinates; w reaction wheels' momenta last).
     pub a: DMatrix<f64>,
-    /// Input matrix, 12n × m.
+    /// Input matrix, (12n + w) × m.
     pub b: DMatrix<f64>,
-    /// Output matrix, p × 12n.
+    /// Output matrix, p × (12n + w).
     pub c: DMatrix<f64>,
     /// Feedthrough, p × m (zero).
     pub d: DMatrix<f64>,
@@ -59,7 +61,7 @@ pub struct StateSpace {
 
 /// The outputs offered, as column patterns (docs/outputs.md): `<b>` a body's name, `<h>` a
 /// hinge's.
-pub const OUTPUTS_OFFERED: &str = "q_B_w/_x/_y/_z, sigma_B_x/_y/_z, w_B_x/_y/_z, R_B_x/_y/_z, <b>_q_w/_x/_y/_z, <b>_w_x/_y/_z, <b>_R_x/_y/_z, <b>_v_x/_y/_z, <h>_yaw/_pitch/_roll, <h>_wrel_x/_y/_z";
+pub const OUTPUTS_OFFERED: &str = "q_B_w/_x/_y/_z, sigma_B_x/_y/_z, w_B_x/_y/_z, R_B_x/_y/_z, <b>_q_w/_x/_y/_z, <b>_w_x/_y/_z, <b>_R_x/_y/_z, <b>_v_x/_y/_z, <h>_yaw/_pitch/_roll, <h>_wrel_x/_y/_z, <wheel>_h";
 
 /// One output's row of C (12n) and its value at the state.
 fn output_row(model: &Model, y: &[f64], motions: &[BodyMotion], name: &str) -> Result<(DVector<f64>, f64), String> {
@@ -241,9 +243,6 @@ pub fn state_space(
     input_bodies: &[usize],
     outputs: &[String],
 ) -> Result<StateSpace, String> {
-    if model.wheel_count() > 0 {
-        return Err("the linear model does not take reaction wheels yet (their momenta would join the state): give the control torque sources, or leave [control] out and use the hub's torque inputs (docs/linear.md)".into());
-    }
     if let Some(&i) = input_bodies.iter().find(|&&i| i >= model.bodies.len()) {
         return Err(format!("input body {i}: the model has {} bodies", model.bodies.len()));
     }
@@ -261,24 +260,49 @@ pub fn state_space(
     let d = stepper.dynamics();
     set_inputs(d, model, input_bodies, None, 0.0)?;
     let lin = Linearization::at(d, &y, Vec3::zeros())?;
-    let a = lin.state_matrix();
     let n = model.bodies.len();
+    let wheels = model.wheel_count();
+    let size = 12 * n + wheels;
+    // The bodies' part from the exact Jacobian, the wheels' momenta held; then the wheels'
+    // columns: the hub's acceleration per unit of a wheel's momentum (its gyroscopic
+    // reaction −ω × g h enters affinely: exact by superposition), and their rows `ḣ = u`.
+    let mut a = DMatrix::zeros(size, size);
+    a.view_mut((0, 0), (12 * n, 12 * n)).copy_from(&lin.state_matrix());
     let base = accelerations(d, &y);
+    let w0 = crate::state::wheel_index(model);
+    for k in 0..wheels {
+        let mut z = y.clone();
+        z[w0 + k] += 1.0;
+        let column = accelerations(d, &z) - &base;
+        a.view_mut((6 * n, 12 * n + k), (6 * n, 1)).copy_from(&column);
+    }
     let inputs = input_names(model, input_bodies);
-    let mut b = DMatrix::zeros(12 * n, inputs.len());
+    let mut b = DMatrix::zeros(size, inputs.len());
+    let first_actuator = 6 * input_bodies.len() + model.motors.len();
     for k in 0..inputs.len() {
         set_inputs(d, model, input_bodies, Some(k), 1.0)?;
         let column = accelerations(d, &y) - &base;
         b.view_mut((6 * n, k), (6 * n, 1)).copy_from(&column);
+        // A wheel's motor torque is its momentum's rate (docs/gnc.md).
+        if (first_actuator..first_actuator + wheels).contains(&k) {
+            b[(12 * n + k - first_actuator, k)] = 1.0;
+        }
     }
     set_inputs(d, model, input_bodies, None, 0.0)?;
     let motions: Vec<BodyMotion> = (0..n).map(|i| BodyMotion::from_state(&y, i)).collect();
     let residual = base.amax();
-    let mut c = DMatrix::zeros(outputs.len(), 12 * n);
+    let mut c = DMatrix::zeros(outputs.len(), size);
     let mut y0 = DVector::zeros(outputs.len());
+    let wheel_names: Vec<&str> =
+        model.control.as_ref().map_or_else(Vec::new, |c| c.wheels().iter().map(|w| w.name.as_str()).collect());
     for (r, name) in outputs.iter().enumerate() {
+        if let Some(k) = wheel_names.iter().position(|w| name.strip_suffix("_h") == Some(*w)) {
+            c[(r, 12 * n + k)] = 1.0;
+            y0[r] = y[w0 + k];
+            continue;
+        }
         let (row, value) = output_row(model, &y, &motions, name)?;
-        c.set_row(r, &row.transpose());
+        c.view_mut((r, 0), (1, 12 * n)).copy_from(&row.transpose());
         y0[r] = value;
     }
     let mut states = Vec::with_capacity(12 * n);
@@ -289,6 +313,7 @@ pub fn state_space(
             }
         }
     }
+    states.extend(wheel_names.iter().map(|w| format!("{w}_h (N·m·s, about its axis)")));
     Ok(StateSpace {
         d: DMatrix::zeros(outputs.len(), inputs.len()),
         a,
@@ -323,6 +348,9 @@ pub fn outputs_matching(model: &Model, patterns: &[String]) -> Result<Vec<String
         for k in ["w", "R", "v"] {
             offered.extend(xyz.map(|a| format!("{}_{k}_{a}", b.name)));
         }
+    }
+    if let Some(c) = &model.control {
+        offered.extend(c.wheels().iter().map(|w| format!("{}_h", w.name)));
     }
     for h in &model.hinges {
         offered.extend(["yaw", "pitch", "roll"].map(|a| format!("{}_{a}", h.name)));

@@ -104,6 +104,27 @@ fn modes_command_writes_the_table() {
     assert!(rows.iter().any(|r| (r[3].parse::<f64>().unwrap() / expected - 1.0).abs() < 1e-9));
     let bad = common::foldsim().args(["modes", "--at", "5"]).arg(&scenario).output().unwrap();
     assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("run.duration = 1 s"));
+    // The page of a mode shape (the viewer's own test drives it in a browser, .ci/run), and
+    // a mode the table does not have.
+    let page = dir.join("mode.html");
+    let view = common::foldsim()
+        .args(["modes", "-q", "--mode", "free:6", "-o"])
+        .arg(dir.join("m.csv"))
+        .arg("--view")
+        .arg(&page)
+        .arg(&scenario)
+        .output()
+        .unwrap();
+    assert!(view.status.success(), "{}", String::from_utf8_lossy(&view.stderr));
+    assert!(std::fs::read_to_string(&page).unwrap().contains("free-free mode at"));
+    let bad = common::foldsim()
+        .args(["modes", "--view"])
+        .arg(&page)
+        .args(["--mode", "hub_fixed:9"])
+        .arg(&scenario)
+        .output()
+        .unwrap();
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("6 hub_fixed modes"));
 }
 
 /// A free chain (hub and three panels, law 2, at its stress-free zero configuration): six

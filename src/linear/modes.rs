@@ -267,3 +267,41 @@ fn hub_influence(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3]) -> (
     let total = t.transpose() * &mt;
     (mt, total)
 }
+
+/// The state `y` (crate::state's layout) displaced along a mode `shape` (6 coordinates per
+/// body, or per body but the hub for a hub-fixed mode: `hub_fixed`), scaled so that its
+/// largest motion is `size` (m: a translation, or a rotation times `arm`, m, a body's size):
+/// positions by `δR`, attitudes by `q ⊗ (cos(|δφ|/2), sin(|δφ|/2) δφ/|δφ|)`; rates untouched.
+/// What the viewer draws to show a mode.
+pub fn displaced(y: &[f64], shape: &DVector<f64>, hub_fixed: bool, size: f64, arm: f64) -> Vec<f64> {
+    use crate::state::{BODY_STATE_LEN as B, POS, QUAT};
+    let first = usize::from(hub_fixed);
+    let largest = (0..shape.len() / 6)
+        .flat_map(|i| (0..6).map(move |c| (i, c)))
+        .map(|(i, c)| shape[6 * i + c].abs() * if c < 3 { 1.0 } else { arm })
+        .fold(0.0, f64::max);
+    let scale = if largest > 0.0 { size / largest } else { 0.0 };
+    let mut z = y.to_vec();
+    for k in 0..shape.len() / 6 {
+        let i = k + first;
+        for c in 0..3 {
+            z[B * i + POS + c] += scale * shape[6 * k + c];
+        }
+        let turn = Vec3::new(shape[6 * k + 3], shape[6 * k + 4], shape[6 * k + 5]) * scale;
+        let angle = turn.norm();
+        if angle > 0.0 {
+            let (c, s) = ((angle / 2.0).cos(), (angle / 2.0).sin() / angle);
+            let r = [c, s * turn.x, s * turn.y, s * turn.z];
+            let q = [z[B * i + QUAT], z[B * i + QUAT + 1], z[B * i + QUAT + 2], z[B * i + QUAT + 3]];
+            // q ⊗ r (scalar first).
+            let p = [
+                q[0] * r[0] - q[1] * r[1] - q[2] * r[2] - q[3] * r[3],
+                q[0] * r[1] + q[1] * r[0] + q[2] * r[3] - q[3] * r[2],
+                q[0] * r[2] - q[1] * r[3] + q[2] * r[0] + q[3] * r[1],
+                q[0] * r[3] + q[1] * r[2] - q[2] * r[1] + q[3] * r[0],
+            ];
+            z[B * i + QUAT..B * i + QUAT + 4].copy_from_slice(&p);
+        }
+    }
+    z
+}

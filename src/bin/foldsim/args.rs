@@ -132,6 +132,13 @@ pub enum Command {
         /// solver up to 200 bodies, the 20 lowest by Lanczos above.
         #[arg(long)]
         count: Option<usize>,
+        /// Also write a viewer page (HTML) that animates one mode shape over two periods.
+        #[arg(long)]
+        view: Option<PathBuf>,
+        /// The mode the page animates: `free:K` or `hub_fixed:K`, K the table's `index`
+        /// (default `free:6`, the first flexible free-free mode).
+        #[arg(long, default_value = "free:6", requires = "view")]
+        mode: String,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,

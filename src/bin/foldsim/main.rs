@@ -44,8 +44,8 @@ fn main() -> ExitCode {
         Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
-        Command::Modes { scenario, output, at, deployed, count, quiet } => {
-            modes::modes(&scenario, output, modes::Choice { at, deployed, count }, quiet)
+        Command::Modes { scenario, output, at, deployed, count, view, mode, quiet } => {
+            modes::modes(&scenario, output, modes::Choice { at, deployed, count }, (view, &mode), quiet)
         }
         Command::Linearize { scenario, output, at, deployed, inputs, outputs, quiet } => {
             modes::linearize(&scenario, output, modes::Choice { at, deployed, count: None }, (inputs, outputs), quiet)

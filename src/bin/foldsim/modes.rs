@@ -33,7 +33,13 @@ pub(crate) struct Choice {
 const DENSE_BODIES: usize = 200;
 
 /// `foldsim modes`: linearises the scenario at time `at` of its run, writes the modes' table.
-pub(crate) fn modes(path: &Path, output: Option<PathBuf>, choice: Choice, quiet: bool) -> Result<(), String> {
+pub(crate) fn modes(
+    path: &Path,
+    output: Option<PathBuf>,
+    choice: Choice,
+    (view, shown): (Option<PathBuf>, &str),
+    quiet: bool,
+) -> Result<(), String> {
     let Choice { at, deployed, count } = choice;
     let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
     if !(at >= 0.0 && at <= scenario.settings.duration) {
@@ -49,7 +55,17 @@ pub(crate) fn modes(path: &Path, output: Option<PathBuf>, choice: Choice, quiet:
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}-modes.csv"))
     });
-    check_outputs(&scenario.inputs, &[("-o", &target)])?;
+    let mut outputs: Vec<(&str, &Path)> = vec![("-o", &target)];
+    if let Some(v) = &view {
+        outputs.push(("--view", v));
+    }
+    check_outputs(&scenario.inputs, &outputs)?;
+    let shown = match shown.split_once(':') {
+        Some((kind @ ("free" | "hub_fixed"), k)) => {
+            (kind == "hub_fixed", k.parse::<usize>().map_err(|_| format!("--mode {shown}: K must be a whole number"))?)
+        }
+        _ => return Err(format!("--mode {shown}: give free:K or hub_fixed:K, K the table's index")),
+    };
     if deployed {
         scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
     }
@@ -70,6 +86,26 @@ pub(crate) fn modes(path: &Path, output: Option<PathBuf>, choice: Choice, quiet:
         row(&mut table, "hub_fixed", i, m);
     }
     write_atomically(&target, table.as_bytes())?;
+    if let Some(page) = &view {
+        let set = if shown.0 { &modes.hub_fixed } else { &modes.free };
+        let m = set.get(shown.1).ok_or_else(|| {
+            format!(
+                "--mode: the table has {} {} modes (index 0 to {})",
+                set.len(),
+                if shown.0 { "hub_fixed" } else { "free" },
+                set.len().saturating_sub(1)
+            )
+        })?;
+        mode_page(path, &scenario, m, shown.0, page)?;
+        if !quiet {
+            outln!(
+                "  mode page ({} at {:.6} Hz, two periods) -> {}",
+                if shown.0 { "hub-fixed" } else { "free-free" },
+                m.frequency_hz(),
+                page.display()
+            );
+        }
+    }
     if quiet {
         return Ok(());
     }
@@ -266,4 +302,56 @@ pub(crate) fn linearize(
         outln!("  A, B, C, D, y0, t, states, inputs, outputs -> {}", target.display());
     }
     Ok(())
+}
+
+/// The viewer page of one mode: the structure displaced along it, `sin(ω t)` over two periods
+/// (one second a period for a rigid mode), its largest motion a twentieth of the structure's
+/// size.
+#[cfg(feature = "animation")]
+fn mode_page(
+    path: &Path,
+    scenario: &foldsim::scenario::Scenario,
+    mode: &Mode,
+    hub_fixed: bool,
+    page: &Path,
+) -> Result<(), String> {
+    use foldsim::observe::{Observer, catalogue, row};
+    use foldsim::output::animation::{Table, frames_from_table};
+    let stepper = foldsim::simulate::Stepper::start(&scenario.model, &scenario.initial, &scenario.settings)
+        .map_err(|e| e.to_string())?;
+    let y = stepper.state().to_vec();
+    let d = stepper.dynamics();
+    let n = scenario.model.bodies.len();
+    let centres: Vec<foldsim::math::Vec3> =
+        (0..n).map(|i| foldsim::state::BodyMotion::from_state(&y, i).r_in_n).collect();
+    let size = centres.iter().map(|r| (r - centres[0]).norm()).fold(0.0, f64::max).max(1e-3);
+    let period = if mode.omega > 0.0 { 2.0 * std::f64::consts::PI / mode.omega } else { 1.0 };
+    let frames = 60;
+    let mut observer = Observer::new(&scenario.model, scenario.initial.hub_attitude, &foldsim::math::Vec3::zeros());
+    let mut rows = Vec::with_capacity(frames + 1);
+    for k in 0..=frames {
+        let t = 2.0 * period * k as f64 / frames as f64;
+        let amplitude = 0.05 * size * (2.0 * std::f64::consts::PI * t / period).sin();
+        let z = foldsim::linear::modes::displaced(&y, &mode.shape, hub_fixed, amplitude, size / (n as f64).sqrt());
+        let o = observer.observe(&scenario.model, t, &z, &d.theta_refs(), &d.memories(), None);
+        rows.push(row(&o));
+    }
+    let width = rows.first().map_or(0, Vec::len);
+    let header: Vec<String> = catalogue(&scenario.model).into_iter().map(|c| c.name).take(width).collect();
+    let table = Table { header, rows };
+    let (frames, kept, _) = frames_from_table(&scenario.model, &table, None)?;
+    let title = format!(
+        "{}: {} mode at {:.6} Hz (displacement exaggerated)",
+        scenario.title.clone().unwrap_or_else(|| path.display().to_string()),
+        if hub_fixed { "hub-fixed" } else { "free-free" },
+        mode.frequency_hz()
+    );
+    let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, &[])?;
+    write_atomically(page, html.as_bytes())?;
+    Ok(())
+}
+
+#[cfg(not(feature = "animation"))]
+fn mode_page(_: &Path, _: &foldsim::scenario::Scenario, _: &Mode, _: bool, _: &Path) -> Result<(), String> {
+    Err("--view needs foldsim built with the `animation` feature".into())
 }

@@ -346,7 +346,20 @@ fn mode_page(
         if hub_fixed { "hub-fixed" } else { "free-free" },
         mode.frequency_hz()
     );
-    let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, &[])?;
+    // Plot the hinge angle the mode moves most.
+    let range = |c: usize| {
+        let v = table.rows.iter().map(|r| r[c]);
+        v.clone().fold(f64::NEG_INFINITY, f64::max) - v.fold(f64::INFINITY, f64::min)
+    };
+    let angle = (0..table.header.len())
+        .filter(|&c| {
+            let h = &table.header[c];
+            scenario.model.hinges.iter().any(|x| h.starts_with(&x.name))
+                && (h.ends_with("_yaw") || h.ends_with("_pitch") || h.ends_with("_roll"))
+        })
+        .max_by(|&a, &b| range(a).total_cmp(&range(b)));
+    let columns: Vec<String> = angle.map(|c| table.header[c].clone()).into_iter().collect();
+    let html = foldsim::output::viewer::page(&title, &scenario.model, &table, &frames, &kept, &columns)?;
     write_atomically(page, html.as_bytes())?;
     Ok(())
 }

@@ -80,10 +80,9 @@ fn solve(k: &DMatrix<f64>, m_inv_root: &DMatrix<f64>) -> (Vec<f64>, DMatrix<f64>
     (order.iter().map(|&i| e.eigenvalues[i]).collect(), shapes)
 }
 
-/// A mode from its eigenvalue, shape and the damping matrix.
-fn mode(lambda: f64, shape: DVector<f64>, c: &DMatrix<f64>) -> Mode {
+/// A mode from its eigenvalue (ω², 1/s²), shape and `damping = φᵀ C φ` (1/s).
+fn mode(lambda: f64, shape: DVector<f64>, damping: f64) -> Mode {
     let omega = if lambda >= 0.0 { lambda.sqrt() } else { f64::NAN };
-    let damping = (shape.transpose() * c * &shape)[(0, 0)];
     Mode {
         omega,
         eigenvalue: lambda,
@@ -92,6 +91,28 @@ fn mode(lambda: f64, shape: DVector<f64>, c: &DMatrix<f64>) -> Mode {
         rigid: false,
         effective: [0.0; 6],
     }
+}
+
+/// The hub-fixed modes of eigenvalues `lambda` and shapes (columns), with their effective
+/// masses `Γ_a²`, `Γ = φᵀ M T` (`mt` = M T of [`hub_influence`]); `damping(φ)` is `φᵀ C φ`.
+fn hub_fixed_modes(
+    lambda: &[f64],
+    shapes: &DMatrix<f64>,
+    mt: &DMatrix<f64>,
+    damping: impl Fn(&DVector<f64>) -> f64,
+) -> Vec<Mode> {
+    lambda
+        .iter()
+        .enumerate()
+        .map(|(j, l)| {
+            let shape = shapes.column(j).into_owned();
+            let gamma = shape.transpose() * mt;
+            let d = damping(&shape);
+            let mut m = mode(*l, shape, d);
+            m.effective = std::array::from_fn(|a| gamma[a] * gamma[a]);
+            m
+        })
+        .collect()
 }
 
 impl Modes {
@@ -113,8 +134,15 @@ impl Modes {
         let c = (&c + c.transpose()) * 0.5;
         // Free-free.
         let (lambda, shapes) = solve(&k, &inverse_root(&lin.mass));
-        let mut free: Vec<Mode> =
-            lambda.iter().enumerate().map(|(j, l)| mode(*l, shapes.column(j).into_owned(), &c)).collect();
+        let mut free: Vec<Mode> = lambda
+            .iter()
+            .enumerate()
+            .map(|(j, l)| {
+                let shape = shapes.column(j).into_owned();
+                let d = shape.dot(&(&c * &shape));
+                mode(*l, shape, d)
+            })
+            .collect();
         // The six lowest are the rigid-body modes: zero frequency by definition (their ω², at
         // round-off at an equilibrium, stays in `eigenvalue`).
         for m in free.iter_mut().take(6) {
@@ -128,17 +156,7 @@ impl Modes {
         let cc = c.select_rows(keep.iter()).select_columns(keep.iter());
         let (lambda_c, shapes_c) = solve(&kc, &inverse_root(&lin.mass[1..]));
         let (mt, total) = hub_influence(lin, positions, dcm_n_b);
-        let hub_fixed = lambda_c
-            .iter()
-            .enumerate()
-            .map(|(j, l)| {
-                let shape = shapes_c.column(j).into_owned();
-                let gamma = shape.transpose() * &mt;
-                let mut m = mode(*l, shape, &cc);
-                m.effective = std::array::from_fn(|a| gamma[a] * gamma[a]);
-                m
-            })
-            .collect();
+        let hub_fixed = hub_fixed_modes(&lambda_c, &shapes_c, &mt, |x| x.dot(&(&cc * x)));
         Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry })
     }
 
@@ -164,18 +182,9 @@ impl Modes {
         if !softest.is_finite() {
             return Err("the structure has no stiffness: every mode is rigid".into());
         }
-        let damping = |shape: &DVector<f64>, c: &super::sparse::BlockMatrix| shape.dot(&c.mul(shape));
-        let make = |l: f64, shape: DVector<f64>, c: &super::sparse::BlockMatrix| {
-            let omega = if l >= 0.0 { l.sqrt() } else { f64::NAN };
-            let d = damping(&shape, c);
-            Mode {
-                omega,
-                eigenvalue: l,
-                damping_ratio: if omega > 0.0 { d / (2.0 * omega) } else { f64::NAN },
-                shape,
-                rigid: false,
-                effective: [0.0; 6],
-            }
+        let make = |l: f64, shape: DVector<f64>| {
+            let d = shape.dot(&c.mul(&shape));
+            mode(l, shape, d)
         };
         // Free-free: the six rigid-body motions (translations along, rotations about, N's
         // axes) deflated, their modes the eigenpairs of K in their span (ω² zero to round-off
@@ -205,30 +214,20 @@ impl Modes {
                     .iter()
                     .enumerate()
                     .fold(DVector::zeros(6 * lin.bodies), |acc, (i, b)| acc + b * e.eigenvectors[(i, j)]);
-                Mode { omega: 0.0, damping_ratio: f64::NAN, rigid: true, ..make(e.eigenvalues[j], shape, &c) }
+                Mode { omega: 0.0, damping_ratio: f64::NAN, rigid: true, ..make(e.eigenvalues[j], shape) }
             })
             .collect();
         free.sort_by(|x, y| x.eigenvalue.total_cmp(&y.eigenvalue));
         let shift = first_mode_shift(stiffest);
         let (lambda, shapes) = free_problem.nearest(shift, count)?;
-        free.extend(lambda.iter().enumerate().map(|(j, l)| make(*l, shapes.column(j).into_owned(), &c)));
+        free.extend(lambda.iter().enumerate().map(|(j, l)| make(*l, shapes.column(j).into_owned())));
         // Hub fixed: no rigid motion left.
         let (kc, cc, mc) = (k.without(0), c.without(0), m.without(0));
         let fixed_problem = super::lanczos::Problem::new(&kc, &mc, stiffest);
         let shift = first_mode_shift(stiffest);
         let (lambda_c, shapes_c) = fixed_problem.nearest(shift, count)?;
         let (mt, total) = hub_influence(lin, positions, dcm_n_b);
-        let hub_fixed = lambda_c
-            .iter()
-            .enumerate()
-            .map(|(j, l)| {
-                let shape = shapes_c.column(j).into_owned();
-                let gamma = shape.transpose() * &mt;
-                let mut md = make(*l, shape, &cc);
-                md.effective = std::array::from_fn(|a| gamma[a] * gamma[a]);
-                md
-            })
-            .collect();
+        let hub_fixed = hub_fixed_modes(&lambda_c, &shapes_c, &mt, |x| x.dot(&cc.mul(x)));
         Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry: f64::NAN })
     }
 }

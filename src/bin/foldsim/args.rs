@@ -118,15 +118,8 @@ pub enum Command {
         /// directory.
         #[arg(long, short)]
         output: Option<PathBuf>,
-        /// Run the scenario to this time (s) first and take the modes there (default: its
-        /// initial state).
-        #[arg(long, default_value_t = 0.0)]
-        at: f64,
-        /// Take the modes of the design state instead (every tree hinge's δ and angles
-        /// zero, every body at rest, the hub where the scenario starts it): the deployed
-        /// structure of a generated flasher or z-fold, stress-free, an equilibrium.
-        #[arg(long, conflicts_with = "at")]
-        deployed: bool,
+        #[command(flatten)]
+        state: LinearState,
         /// Only the N lowest flexible modes (free-free and hub-fixed), by the sparse
         /// shift-invert Lanczos solver (docs/linear.md). Default: every mode by the dense
         /// solver up to 200 bodies, the 20 lowest by Lanczos above.
@@ -153,14 +146,8 @@ pub enum Command {
         /// directory.
         #[arg(long, short)]
         output: Option<PathBuf>,
-        /// Run the scenario to this time (s) first and linearise there (default: its initial
-        /// state).
-        #[arg(long, default_value_t = 0.0)]
-        at: f64,
-        /// Linearise about the design state instead (every tree hinge's δ and angles zero,
-        /// every body at rest).
-        #[arg(long, conflicts_with = "at")]
-        deployed: bool,
+        #[command(flatten)]
+        state: LinearState,
         /// Bodies that take force and torque inputs (their own frames, at their centres of
         /// mass), by name, comma-separated. Default: the hub.
         #[arg(long, value_delimiter = ',')]
@@ -329,4 +316,18 @@ pub struct FlasherArgs {
     /// Print every hinge's stowed fold angle, not only the distinct ones.
     #[arg(long)]
     pub all_folds: bool,
+}
+
+/// Where `modes` and `linearize` take the structure's state.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub(crate) struct LinearState {
+    /// Run the scenario to this time (s) first and take the state there (default: its
+    /// initial state).
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) at: f64,
+    /// Take the design state instead (every tree hinge's δ and angles zero, every body at
+    /// rest, the hub where the scenario starts it): the deployed structure of a generated
+    /// flasher or z-fold, stress-free, an equilibrium.
+    #[arg(long, conflicts_with = "at")]
+    pub(crate) deployed: bool,
 }

@@ -44,11 +44,16 @@ fn main() -> ExitCode {
         Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
-        Command::Modes { scenario, output, at, deployed, count, view, mode, quiet } => {
-            modes::modes(&scenario, output, modes::Choice { at, deployed, count }, (view, &mode), quiet)
-        }
-        Command::Linearize { scenario, output, at, deployed, inputs, outputs, quiet } => {
-            modes::linearize(&scenario, output, modes::Choice { at, deployed, count: None }, (inputs, outputs), quiet)
+        Command::Modes { scenario, output, state, count, view, mode, quiet } => modes::modes(
+            &scenario,
+            output,
+            modes::Choice { at: state.at, deployed: state.deployed, count },
+            (view, &mode),
+            quiet,
+        ),
+        Command::Linearize { scenario, output, state, inputs, outputs, quiet } => {
+            let choice = modes::Choice { at: state.at, deployed: state.deployed, count: None };
+            modes::linearize(&scenario, output, choice, (inputs, outputs), quiet)
         }
         Command::Equilibrium { scenario, output, tolerance, spin_rate, quiet } => {
             modes::equilibrium(&scenario, output, tolerance, spin_rate, quiet)

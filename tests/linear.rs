@@ -480,34 +480,7 @@ fn spinning_radial_panel_is_centrifugally_stiffened() {
     let (k, m, ic, r, l, k_f) = (2.0, 3.0, 0.5, 1.5, 0.8, 1e9);
     let mut worst = 0.0f64;
     for spin in [0.0, 0.7, 2.0] {
-        let text = format!(
-            r#"
-[run]
-duration = 1.0
-output_step = 0.1
-integrator = "dop853"
-rtol = 1e-10
-atol = 1e-10
-
-[[body]]
-name = "hub"
-mass = 1e9
-inertia = [1e9, 1e9, 1e9]
-
-[[body]]
-name = "p1"
-mass = {m:?}
-inertia = [{ic:?}, {ic:?}, {ic:?}]
-
-[[hinge]]
-name = "h1"
-parent = "hub"
-child = "p1"
-a0 = {{ position = [{r:?}, 0.0, 0.0] }}
-a = {{ child_com = [{l:?}, 0.0, 0.0] }}
-law = {{ type = "euler-potential", k_f = {k_f:?}, k_theta = [1e4, 1e4, {k:?}] }}
-"#
-        );
+        let text = radial_panel(k, m, ic, r, l, k_f);
         let s = Scenario::from_toml(&text, "spinning.toml").unwrap_or_else(|e| panic!("{e}"));
         let (d, y) = at_start(&s);
         let omega = Vec3::new(0.0, 0.0, spin);
@@ -536,4 +509,61 @@ law = {{ type = "euler-potential", k_f = {k_f:?}, k_theta = [1e4, 1e4, {k:?}] }}
         worst = worst.max(nearest);
     }
     assert!(worst < 2e-7, "{worst:e}");
+}
+
+/// A hub held (mass and inertia 1e9) with one panel hinged radially at `r` (m), its centre of
+/// mass `l` beyond the hinge, folding about z (stiffness `k`), `k_f` the hinge's stretch
+/// stiffness, the panel's mass `m` and inertia `ic` about each axis.
+fn radial_panel(k: f64, m: f64, ic: f64, r: f64, l: f64, k_f: f64) -> String {
+    format!(
+        r#"
+[run]
+duration = 1.0
+output_step = 0.1
+integrator = "dop853"
+rtol = 1e-10
+atol = 1e-10
+
+[[body]]
+name = "hub"
+mass = 1e9
+inertia = [1e9, 1e9, 1e9]
+
+[[body]]
+name = "p1"
+mass = {m:?}
+inertia = [{ic:?}, {ic:?}, {ic:?}]
+
+[[hinge]]
+name = "h1"
+parent = "hub"
+child = "p1"
+a0 = {{ position = [{r:?}, 0.0, 0.0] }}
+a = {{ child_com = [{l:?}, 0.0, 0.0] }}
+law = {{ type = "euler-potential", k_f = {k_f:?}, k_theta = [1e4, 1e4, {k:?}] }}
+"#
+    )
+}
+
+/// `foldsim modes --spin-rate 2` on the radial panel from its unstretched design: the
+/// relative equilibrium, then the lead-lag mode in the turning frame at the closed form's
+/// frequency (as `spinning_radial_panel_is_centrifugally_stiffened`, bound 2e-7), undamped.
+#[test]
+fn modes_command_takes_a_spin_rate() {
+    let (k, m, ic, r, l, k_f, spin) = (2.0, 3.0, 0.5, 1.5, 0.8, 1e9, 2.0);
+    let dir = common::tmp("linear", "spin");
+    let scenario = dir.join("radial.toml");
+    std::fs::write(&scenario, radial_panel(k, m, ic, r, l, k_f)).unwrap();
+    let out = dir.join("spin.csv");
+    let run =
+        common::foldsim().args(["modes", "-q", "--spin-rate", "2", "-o"]).arg(&out).arg(&scenario).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let delta = m * spin * spin * (r + l) / (k_f - m * spin * spin);
+    let expected = ((k + m * spin * spin * (r + delta) * l) / (ic + m * l * l)).sqrt();
+    let mut reader = csv::Reader::from_path(&out).unwrap();
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    let nearest =
+        rows.iter().map(|r| (r[3].parse::<f64>().unwrap() / expected - 1.0).abs()).fold(f64::INFINITY, f64::min);
+    assert!(rows.iter().all(|r| &r[0] == "spinning"));
+    assert!(nearest < 2e-7, "{nearest:e}");
 }

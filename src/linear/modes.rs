@@ -304,3 +304,34 @@ pub fn displaced(y: &[f64], shape: &DVector<f64>, hub_fixed: bool, size: f64, ar
     }
     z
 }
+
+/// One mode of a structure spinning steadily: from a complex pair `λ = −ζω ± iω√(1 − ζ²)` of
+/// the state matrix in the frame turning with it.
+#[derive(Clone, Copy, Debug)]
+pub struct SpinningMode {
+    /// `|λ|`, rad/s.
+    pub omega: f64,
+    /// The damped frequency `Im λ`, rad/s (what the turning frame sees oscillate).
+    pub damped: f64,
+    /// `−Re λ / |λ|` (negative: the mode grows).
+    pub damping_ratio: f64,
+}
+
+/// The modes of a structure spinning steadily at `spin` (rad/s, N) about its hub's centre of
+/// mass, at the relative equilibrium `y` ([`super::equilibrium::Equilibrium::spinning`]):
+/// the complex eigenvalues of the state matrix in the turning frame (dense), one per pair,
+/// by `Im λ` ascending; eigenvalues with `|λ|` below `1e-6` of the largest (the rigid
+/// motions, which the spin couples) and real ones are left out. Gyroscopic coupling and
+/// centrifugal stiffening are in; docs/linear.md.
+pub fn spinning(dynamics: &crate::dynamics::Dynamics<'_>, y: &[f64], spin: Vec3) -> Result<Vec<SpinningMode>, String> {
+    let lin = Linearization::at(dynamics, y, spin)?;
+    let eigen = lin.state_matrix().complex_eigenvalues();
+    let largest = eigen.iter().map(|e| e.norm()).fold(0.0, f64::max);
+    let mut out: Vec<SpinningMode> = eigen
+        .iter()
+        .filter(|e| e.im > 0.0 && e.norm() > 1e-6 * largest)
+        .map(|e| SpinningMode { omega: e.norm(), damped: e.im, damping_ratio: -e.re / e.norm() })
+        .collect();
+    out.sort_by(|a, b| a.damped.total_cmp(&b.damped));
+    Ok(out)
+}

@@ -125,6 +125,11 @@ pub enum Command {
         /// solver up to 200 bodies, the 20 lowest by Lanczos above.
         #[arg(long)]
         count: Option<usize>,
+        /// The modes of the structure spinning steadily at this rate (rad/s) about the hub's
+        /// z axis: its relative equilibrium near the state, then the state matrix's
+        /// eigenvalues in the turning frame (gyroscopic coupling, centrifugal stiffening).
+        #[arg(long, allow_negative_numbers = true, conflicts_with_all = ["count", "view"])]
+        spin_rate: Option<f64>,
         /// Also write a viewer page (HTML) that animates one mode shape over two periods.
         #[arg(long)]
         view: Option<PathBuf>,

@@ -44,7 +44,11 @@ fn main() -> ExitCode {
         Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
-        Command::Modes { scenario, output, state, count, view, mode, quiet } => modes::modes(
+        Command::Modes { scenario, output, state, spin_rate: Some(w), quiet, .. } => {
+            let choice = modes::Choice { at: state.at, deployed: state.deployed, count: None };
+            modes::spinning_modes(&scenario, output, choice, w, quiet)
+        }
+        Command::Modes { scenario, output, state, count, view, mode, quiet, spin_rate: None } => modes::modes(
             &scenario,
             output,
             modes::Choice { at: state.at, deployed: state.deployed, count },

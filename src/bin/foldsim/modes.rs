@@ -368,3 +368,89 @@ fn mode_page(
 fn mode_page(_: &Path, _: &foldsim::scenario::Scenario, _: &Mode, _: bool, _: &Path) -> Result<(), String> {
     Err("--view needs foldsim built with the `animation` feature".into())
 }
+
+/// `foldsim modes --spin-rate W`: the relative equilibrium of a steady spin near the state,
+/// then the modes there in the turning frame, as a table of `spinning` rows.
+pub(crate) fn spinning_modes(
+    path: &Path,
+    output: Option<PathBuf>,
+    choice: Choice,
+    spin_rate: f64,
+    quiet: bool,
+) -> Result<(), String> {
+    let Choice { at, deployed, .. } = choice;
+    if !spin_rate.is_finite() {
+        return Err(format!("--spin-rate {spin_rate}: give a rate in rad/s"));
+    }
+    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
+    if !(at >= 0.0 && at <= scenario.settings.duration) {
+        return Err(format!(
+            "--at {at}: the time must lie between 0 and run.duration = {} s",
+            scenario.settings.duration
+        ));
+    }
+    let target = output.unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}-modes.csv"))
+    });
+    check_outputs(&scenario.inputs, &[("-o", &target)])?;
+    if deployed {
+        scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
+    }
+    let mut stepper = foldsim::simulate::Stepper::start(&scenario.model, &scenario.initial, &scenario.settings)
+        .map_err(|e| e.to_string())?;
+    if at > 0.0 {
+        stepper.advance(at).map_err(|e| e.to_string())?;
+    }
+    let hub = foldsim::state::BodyMotion::from_state(stepper.state(), 0);
+    let spin = hub.dcm_n_b.column(2) * spin_rate;
+    // Forces left below 1e-7 of the largest centripetal force (or 1e-10 N at rest): above the
+    // round-off of stiff hinges (1e-16 of k_f times a size, 5e-8 N at 1e9 N/m and 2 m).
+    let n = scenario.model.bodies.len();
+    let scale = (0..n)
+        .map(|i| {
+            let r = foldsim::state::BodyMotion::from_state(stepper.state(), i).r_in_n - hub.r_in_n;
+            scenario.model.bodies[i].mass * spin_rate * spin_rate * r.norm()
+        })
+        .fold(0.0, f64::max);
+    let d = stepper.dynamics();
+    let found =
+        foldsim::linear::equilibrium::Equilibrium::spinning(d, stepper.state(), spin, 1e-7 * scale + 1e-10, 50)?;
+    d.accept(stepper.time(), &found.y)?;
+    let modes = foldsim::linear::modes::spinning(d, &found.y, spin)?;
+    let mut table = String::from(HEADER);
+    table.push('\n');
+    for (i, m) in modes.iter().enumerate() {
+        let _ = writeln!(
+            table,
+            "spinning,{i},{},{},{},{},0,0,0,0,0,0",
+            m.damped / (2.0 * std::f64::consts::PI),
+            m.damped,
+            m.omega * m.omega,
+            m.damping_ratio
+        );
+    }
+    write_atomically(&target, table.as_bytes())?;
+    if !quiet {
+        let name = scenario.title.clone().unwrap_or_else(|| path.display().to_string());
+        outln!("foldsim modes: {name}, spinning at {spin_rate} rad/s about the hub's z axis");
+        outln!(
+            "  relative equilibrium: {} Newton iterations, largest force or torque {:.3e} -> {:.3e}; bodies moved up to {:.4e} m",
+            found.iterations,
+            found.start_residual,
+            found.residual,
+            found.moved
+        );
+        outln!("    mode  frequency Hz (turning frame)   damping ratio");
+        for (i, m) in modes.iter().take(10).enumerate() {
+            outln!(
+                "    {:>4}  {:>12.6}                 {:>13.4e}",
+                i + 1,
+                m.damped / (2.0 * std::f64::consts::PI),
+                m.damping_ratio
+            );
+        }
+        outln!("  {} modes -> {}", modes.len(), target.display());
+    }
+    Ok(())
+}

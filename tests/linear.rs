@@ -55,6 +55,26 @@ fn one_panel_frequency_is_analytic() {
 /// The scenario of [`one_panel_frequency_is_analytic`]: hinge stiffness `k` about z, the
 /// hub's and the panel's inertias about z `ih`, `ip`.
 fn one_panel(k: f64, ih: f64, ip: f64) -> String {
+    hub_and_panel(
+        (100.0, [50.0, 45.0, ih]),
+        (7.0, [2.0, 1.8, ip]),
+        ([0.0, 0.0, 0.8], [0.0, 0.0, 0.4]),
+        1e4,
+        [30.0, 25.0, k],
+    )
+}
+
+/// A hub and one panel `p1` on a law-2 hinge `h1` (DOP853 at 1e-10, 1 s): each body's mass
+/// (kg) and principal inertia (kg·m²), the hinge's A0 origin in the hub and the panel's centre
+/// of mass in A (m), its stretch stiffness (N/m) and rotational stiffnesses (N·m/rad).
+fn hub_and_panel(
+    hub: (f64, [f64; 3]),
+    panel: (f64, [f64; 3]),
+    place: ([f64; 3], [f64; 3]),
+    k_f: f64,
+    k_theta: [f64; 3],
+) -> String {
+    let ((mh, ih), (mp, ip), (a0, com)) = (hub, panel, place);
     format!(
         r#"
 [run]
@@ -66,21 +86,21 @@ atol = 1e-10
 
 [[body]]
 name = "hub"
-mass = 100.0
-inertia = [50.0, 45.0, {ih:?}]
+mass = {mh:?}
+inertia = {ih:?}
 
 [[body]]
 name = "p1"
-mass = 7.0
-inertia = [2.0, 1.8, {ip:?}]
+mass = {mp:?}
+inertia = {ip:?}
 
 [[hinge]]
 name = "h1"
 parent = "hub"
 child = "p1"
-a0 = {{ position = [0.0, 0.0, 0.8] }}
-a = {{ child_com = [0.0, 0.0, 0.4] }}
-law = {{ type = "euler-potential", k_f = 1e4, k_theta = [30.0, 25.0, {k:?}] }}
+a0 = {{ position = {a0:?} }}
+a = {{ child_com = {com:?} }}
+law = {{ type = "euler-potential", k_f = {k_f:?}, k_theta = {k_theta:?} }}
 "#
     )
 }
@@ -515,34 +535,7 @@ fn spinning_radial_panel_is_centrifugally_stiffened() {
 /// mass `l` beyond the hinge, folding about z (stiffness `k`), `k_f` the hinge's stretch
 /// stiffness, the panel's mass `m` and inertia `ic` about each axis.
 fn radial_panel(k: f64, m: f64, ic: f64, r: f64, l: f64, k_f: f64) -> String {
-    format!(
-        r#"
-[run]
-duration = 1.0
-output_step = 0.1
-integrator = "dop853"
-rtol = 1e-10
-atol = 1e-10
-
-[[body]]
-name = "hub"
-mass = 1e9
-inertia = [1e9, 1e9, 1e9]
-
-[[body]]
-name = "p1"
-mass = {m:?}
-inertia = [{ic:?}, {ic:?}, {ic:?}]
-
-[[hinge]]
-name = "h1"
-parent = "hub"
-child = "p1"
-a0 = {{ position = [{r:?}, 0.0, 0.0] }}
-a = {{ child_com = [{l:?}, 0.0, 0.0] }}
-law = {{ type = "euler-potential", k_f = {k_f:?}, k_theta = [1e4, 1e4, {k:?}] }}
-"#
-    )
+    hub_and_panel((1e9, [1e9; 3]), (m, [ic; 3]), ([r, 0.0, 0.0], [l, 0.0, 0.0]), k_f, [1e4, 1e4, k])
 }
 
 /// `foldsim modes --spin-rate 2` on the radial panel from its unstretched design: the

@@ -17,18 +17,8 @@ fn matrix<'py>(py: Python<'py>, m: &nalgebra::DMatrix<f64>) -> PyResult<Bound<'p
 
 /// Where to linearise: the design state if asked, else time `at` of the run.
 fn prepare(mut s: foldsim::scenario::Scenario, at: f64, deployed: bool) -> PyResult<foldsim::scenario::Scenario> {
-    if !(at >= 0.0 && at <= s.settings.duration) {
-        return Err(PyValueError::new_err(format!(
-            "at = {at}: the time must lie between 0 and run.duration = {} s",
-            s.settings.duration
-        )));
-    }
-    if deployed {
-        if at > 0.0 {
-            return Err(PyValueError::new_err("deployed = True takes the design state: give no `at`"));
-        }
-        s.initial = foldsim::linear::design_state(&s.model, &s.initial);
-    }
+    s.initial = foldsim::linear::start_for(&s.model, &s.initial, &s.settings, at, deployed)
+        .map_err(|e| PyValueError::new_err(format!("at = {e}")))?;
     Ok(s)
 }
 

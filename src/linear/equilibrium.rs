@@ -9,6 +9,7 @@
 //! by `q ⊗ (1, Δφ/2)` normalised), halving the step while the largest force grows.
 
 use super::Linearization;
+use super::sparse::Block;
 use crate::dynamics::Dynamics;
 use crate::kinematics::hinge_kinematics;
 use crate::math::{Euler321, Vec3, skew};
@@ -100,18 +101,32 @@ fn moved(y: &[f64], step: &DVector<f64>, scale: f64) -> Vec<f64> {
 /// `δω = [ω×] δφ`, ω its rate in body components: `δ(Cᵀ Ω) = [CᵀΩ ×] δφ` for `C → C(I + [δφ×])`);
 /// at rest `K = −M J_x`.
 fn spinning_stiffness(lin: &Linearization, y: &[f64], spin: &Vec3) -> DMatrix<f64> {
+    // By blocks: S is block diagonal, so (J_v S)_ij = J_v,ij S_j; the centripetal term sits
+    // on the diagonal.
     let n = lin.bodies;
-    let mut s = DMatrix::zeros(6 * n, 6 * n);
-    let mut centripetal = DMatrix::zeros(6 * n, 6 * n);
     let turn = skew(spin);
-    for i in 0..n {
-        let omega_body = BodyMotion::from_state(y, i).dcm_n_b.transpose() * spin;
-        s.view_mut((6 * i, 6 * i), (3, 3)).copy_from(&turn);
-        s.view_mut((6 * i + 3, 6 * i + 3), (3, 3)).copy_from(&skew(&omega_body));
-        centripetal.view_mut((6 * i, 6 * i), (3, 3)).copy_from(&(turn * turn));
+    let slaved: Vec<Block> = (0..n)
+        .map(|j| {
+            let omega_body = BodyMotion::from_state(y, j).dcm_n_b.transpose() * spin;
+            let mut b = Block::zeros();
+            b.fixed_view_mut::<3, 3>(0, 0).copy_from(&turn);
+            b.fixed_view_mut::<3, 3>(3, 3).copy_from(&skew(&omega_body));
+            b
+        })
+        .collect();
+    let mut k = DMatrix::zeros(6 * n, 6 * n);
+    for (i, row) in lin.blocks.iter().enumerate() {
+        let mb = lin.mass_block(i);
+        for (&j, (bx, bv)) in row {
+            let mut a = bx + bv * slaved[j];
+            if i == j {
+                let mut centripetal = a.fixed_view_mut::<3, 3>(0, 0);
+                centripetal -= turn * turn;
+            }
+            k.view_mut((6 * i, 6 * j), (6, 6)).copy_from(&(-(mb * a)));
+        }
     }
-    let m = lin.mass_matrix();
-    -(&m * (lin.jx() + lin.jv() * s - centripetal))
+    k
 }
 
 impl Equilibrium {

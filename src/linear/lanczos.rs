@@ -89,15 +89,7 @@ impl<'a> Problem<'a> {
     /// shapes as columns, M-normalised. Fails if `K − σM` is singular (σ an eigenvalue) or
     /// the pairs do not converge within the matrix's size.
     pub fn nearest(&self, shift: f64, count: usize) -> Result<(Vec<f64>, DMatrix<f64>), String> {
-        let (lambda, shapes) = self.krylov(shift, count, None)?;
-        Ok((lambda, shapes))
-    }
-
-    /// Estimates of the `count` eigenvalues nearest `shift` from a basis of at most `basis`
-    /// vectors: Ritz values, not converged (for eigenvalues above the shift, each above its
-    /// eigenvalue: Rayleigh–Ritz bounds the operator's largest eigenvalues from below).
-    pub fn estimate(&self, shift: f64, count: usize, basis: usize) -> Result<Vec<f64>, String> {
-        Ok(self.krylov(shift, count, Some(basis))?.0)
+        self.krylov(shift, count)
     }
 
     /// `K − σM` and its factors.
@@ -112,15 +104,13 @@ impl<'a> Problem<'a> {
         Ok((s, factors))
     }
 
-    /// Block shift-invert Lanczos; with `limit`, stops at that basis size, converged or not
-    /// (and returns no shapes).
-    fn krylov(&self, shift: f64, count: usize, limit: Option<usize>) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+    /// Block shift-invert Lanczos.
+    fn krylov(&self, shift: f64, count: usize) -> Result<(Vec<f64>, DMatrix<f64>), String> {
         let (k, m) = (self.k, self.m);
         let n = 6 * k.rows.len();
         let room = n - self.deflate.len();
         let count = count.min(room);
-        let estimating = limit.is_some_and(|l| l < room);
-        let limit = limit.unwrap_or(room).min(room);
+        let limit = room;
         let (shifted, factors) = self.factor(shift)?;
         // `(K − σM)⁻¹ b` with two steps of iterative refinement (Wilkinson; Higham, *Accuracy
         // and Stability of Numerical Algorithms*, ch. 12): near the lowest mode K − σM has a
@@ -145,7 +135,7 @@ impl<'a> Problem<'a> {
             .map(|b| DVector::from_fn(n, |i, _| 1.0 + 0.5 * ((i as f64) * (0.37 + 0.61 * b as f64) + b as f64).sin()))
             .collect();
         let mut previous: Vec<f64> = Vec::new();
-        let mut next_check = if estimating { limit } else { (count + BLOCK).min(limit) };
+        let mut next_check = (count + BLOCK).min(limit);
         loop {
             let mut added = 0;
             for mut w in std::mem::take(&mut pending) {
@@ -186,11 +176,6 @@ impl<'a> Problem<'a> {
             order.sort_by(|&x, &y| e.eigenvalues[y].total_cmp(&e.eigenvalues[x]));
             let wanted = &order[..count.min(size)];
             let values: Vec<f64> = wanted.iter().map(|&c| e.eigenvalues[c]).collect();
-            if estimating {
-                let mut lambda: Vec<f64> = values.iter().map(|nu| shift + 1.0 / nu).collect();
-                lambda.sort_by(f64::total_cmp);
-                return Ok((lambda, DMatrix::zeros(n, 0)));
-            }
             // Ritz values that a larger basis left unchanged (to 1e-12) have converged as far
             // as the solves allow, whatever their residual (Ritz values of the operator's
             // largest eigenvalues only grow with the basis, towards them).

@@ -147,12 +147,8 @@ impl Linearization {
     pub fn blocks_kcm(&self) -> (BlockMatrix, BlockMatrix, BlockMatrix) {
         let n = self.bodies;
         let (mut k, mut c, mut m) = (BlockMatrix::new(n), BlockMatrix::new(n), BlockMatrix::new(n));
-        for (i, (mass, inertia)) in self.mass.iter().enumerate() {
-            let mut mb = Block::zeros();
-            for a in 0..3 {
-                mb[(a, a)] = *mass;
-            }
-            mb.fixed_view_mut::<3, 3>(3, 3).copy_from(inertia);
+        for i in 0..n {
+            let mb = self.mass_block(i);
             m.add(i, i, &mb);
             for (&j, (bx, bv)) in &self.blocks[i] {
                 let (kb, cb) = (-(mb * bx) * 0.5, -(mb * bv) * 0.5);
@@ -163,6 +159,17 @@ impl Linearization {
             }
         }
         (k, c, m)
+    }
+
+    /// Body `i`'s mass block: `m I₃` (kg) and its inertia (kg·m², body frame).
+    pub fn mass_block(&self, i: usize) -> Block {
+        let (mass, inertia) = &self.mass[i];
+        let mut mb = Block::zeros();
+        for a in 0..3 {
+            mb[(a, a)] = *mass;
+        }
+        mb.fixed_view_mut::<3, 3>(3, 3).copy_from(inertia);
+        mb
     }
 
     /// The state matrix A (12n × 12n) in the coordinates of the module documentation.
@@ -221,6 +228,25 @@ pub fn design_state(model: &Model, ic: &InitialConditions) -> InitialConditions 
         hinges: model.is_tree_hinge.iter().map(|&t| t.then(HingeInitial::default)).collect(),
         ..InitialConditions::default()
     }
+}
+
+/// Where a linear analysis takes `model`'s state: the run from `ic` to time `at` (s), or the
+/// design state with `deployed` ([`design_state`]; `at` must then be 0). Returns the initial
+/// conditions to run from; fails, naming what is valid, for a time outside the run.
+pub fn start_for(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    at: f64,
+    deployed: bool,
+) -> Result<InitialConditions, String> {
+    if !(at >= 0.0 && at <= settings.duration) {
+        return Err(format!("{at} s: the time must lie between 0 and run.duration = {} s", settings.duration));
+    }
+    if deployed && at > 0.0 {
+        return Err(format!("{at} s: the design state is taken as it is, not at a time of a run"));
+    }
+    Ok(if deployed { design_state(model, ic) } else { ic.clone() })
 }
 
 /// A structure's state where it is linearised: its time and how far it is from rest.

@@ -29,6 +29,30 @@ pub(crate) struct Choice {
     pub count: Option<usize>,
 }
 
+/// The scenario at `path` with the initial conditions `choice` asks for, and the output it
+/// writes (`output`, else `<scenario name><suffix>` here) checked with `extra` outputs
+/// against its inputs.
+fn open(
+    path: &Path,
+    output: Option<PathBuf>,
+    suffix: &str,
+    extra: &[(&str, &Path)],
+    choice: &Choice,
+) -> Result<(foldsim::scenario::Scenario, PathBuf), String> {
+    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
+    scenario.initial =
+        foldsim::linear::start_for(&scenario.model, &scenario.initial, &scenario.settings, choice.at, choice.deployed)
+            .map_err(|e| format!("--at {e}"))?;
+    let target = output.unwrap_or_else(|| {
+        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}{suffix}"))
+    });
+    let mut outputs: Vec<(&str, &Path)> = vec![("-o", &target)];
+    outputs.extend_from_slice(extra);
+    check_outputs(&scenario.inputs, &outputs)?;
+    Ok((scenario, target))
+}
+
 /// Bodies above which `foldsim modes` takes the 20 lowest modes by Lanczos unless told.
 const DENSE_BODIES: usize = 200;
 
@@ -40,35 +64,18 @@ pub(crate) fn modes(
     (view, shown): (Option<PathBuf>, &str),
     quiet: bool,
 ) -> Result<(), String> {
-    let Choice { at, deployed, count } = choice;
-    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
-    if !(at >= 0.0 && at <= scenario.settings.duration) {
-        return Err(format!(
-            "--at {at}: the time to take the modes at must lie between 0 and run.duration = {} s",
-            scenario.settings.duration
-        ));
-    }
-    if count == Some(0) {
+    if choice.count == Some(0) {
         return Err("--count 0: ask for at least one mode".into());
     }
-    let target = output.unwrap_or_else(|| {
-        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("{stem}-modes.csv"))
-    });
-    let mut outputs: Vec<(&str, &Path)> = vec![("-o", &target)];
-    if let Some(v) = &view {
-        outputs.push(("--view", v));
-    }
-    check_outputs(&scenario.inputs, &outputs)?;
+    let extra: Vec<(&str, &Path)> = view.iter().map(|v| ("--view", v.as_path())).collect();
+    let (scenario, target) = open(path, output, "-modes.csv", &extra, &choice)?;
+    let Choice { at, count, .. } = choice;
     let shown = match shown.split_once(':') {
         Some((kind @ ("free" | "hub_fixed"), k)) => {
             (kind == "hub_fixed", k.parse::<usize>().map_err(|_| format!("--mode {shown}: K must be a whole number"))?)
         }
         _ => return Err(format!("--mode {shown}: give free:K or hub_fixed:K, K the table's index")),
     };
-    if deployed {
-        scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
-    }
     let (lin, here) = linearize_at(&scenario.model, &scenario.initial, &scenario.settings, at)?;
     let count = count.or((lin.bodies > DENSE_BODIES).then_some(20));
     let started = std::time::Instant::now();
@@ -240,22 +247,8 @@ pub(crate) fn linearize(
 ) -> Result<(), String> {
     use foldsim::linear::statespace::{default_outputs, outputs_matching, state_space};
     use foldsim::output::npz::{Array, npz_bytes};
-    let Choice { at, deployed, .. } = choice;
-    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
-    if !(at >= 0.0 && at <= scenario.settings.duration) {
-        return Err(format!(
-            "--at {at}: the time to linearise at must lie between 0 and run.duration = {} s",
-            scenario.settings.duration
-        ));
-    }
-    let target = output.unwrap_or_else(|| {
-        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("{stem}-linear.npz"))
-    });
-    check_outputs(&scenario.inputs, &[("-o", &target)])?;
-    if deployed {
-        scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
-    }
+    let (mut scenario, target) = open(path, output, "-linear.npz", &[], &choice)?;
+    let at = choice.at;
     let model = &mut scenario.model;
     model.commandable = true;
     let bodies: Vec<usize> = match inputs {
@@ -378,25 +371,11 @@ pub(crate) fn spinning_modes(
     spin_rate: f64,
     quiet: bool,
 ) -> Result<(), String> {
-    let Choice { at, deployed, .. } = choice;
     if !spin_rate.is_finite() {
         return Err(format!("--spin-rate {spin_rate}: give a rate in rad/s"));
     }
-    let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
-    if !(at >= 0.0 && at <= scenario.settings.duration) {
-        return Err(format!(
-            "--at {at}: the time must lie between 0 and run.duration = {} s",
-            scenario.settings.duration
-        ));
-    }
-    let target = output.unwrap_or_else(|| {
-        let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
-        PathBuf::from(format!("{stem}-modes.csv"))
-    });
-    check_outputs(&scenario.inputs, &[("-o", &target)])?;
-    if deployed {
-        scenario.initial = foldsim::linear::design_state(&scenario.model, &scenario.initial);
-    }
+    let (scenario, target) = open(path, output, "-modes.csv", &[], &choice)?;
+    let at = choice.at;
     let mut stepper = foldsim::simulate::Stepper::start(&scenario.model, &scenario.initial, &scenario.settings)
         .map_err(|e| e.to_string())?;
     if at > 0.0 {

@@ -72,7 +72,7 @@ fn stiffness_is_reported() {
 /// (1e-6: bound 1e-5).
 #[test]
 fn implicit_path_on_a_stiff_grid() {
-    let p = Params { duration: 10.0, tolerance: 1e-6, k_translation: 1e7, k_bending: 1e4, ..Params::default() };
+    let p = Params { duration: 10.0, tolerance: std::env::var("TOL").map_or(1e-6, |s| s.parse().unwrap()), k_translation: 1e7, k_bending: 1e4, ..Params::default() };
     let explicit = Scenario::from_toml(&grid(3, 3, &p), "explicit").unwrap();
     let implicit =
         Scenario::from_toml(&grid(3, 3, &p).replace("integrator = \"dop853\"", "integrator = \"sdirk4\""), "implicit")
@@ -88,5 +88,6 @@ fn implicit_path_on_a_stiff_grid() {
         "ΔH {:e}",
         d.angular_momentum / d.angular_momentum_scale
     );
+    eprintln!("energy drift {:e} of E0", d.energy / obs[0].energy());
     assert!(d.energy <= 1e-5 * obs[0].energy());
 }

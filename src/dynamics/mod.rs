@@ -534,6 +534,14 @@ impl crate::integrate::OdeSystem for Dynamics<'_> {
         let tiny = 1e-12 * t.abs().max(1.0);
         breaks.get(breaks.partition_point(|&b| b <= t + tiny)).copied()
     }
+
+    /// Every body's velocity and angular velocity (crate::state's VEL and OMEGA).
+    fn mark_rates(&self, rates: &mut [bool]) {
+        use crate::state::{BODY_STATE_LEN, OMEGA, VEL};
+        for b in 0..self.model().bodies.len() {
+            rates[BODY_STATE_LEN * b + VEL..BODY_STATE_LEN * b + OMEGA + 3].fill(true);
+        }
+    }
 }
 
 impl Dynamics<'_> {

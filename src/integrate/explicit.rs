@@ -151,6 +151,12 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         let s = Step { t_prev: t, t: t_next, y, kind: DenseKind::Hermite, cont: &w.cont };
         match on_step(&s).map_err(OdeError::Callback)? {
             Control::Continue => t = t_next,
+            Control::Stop => {
+                if t_next < tf {
+                    stats.stopped_at = Some(t_next);
+                }
+                return Ok(());
+            }
             Control::Restart { t: tr, y: yr } => {
                 t = tr;
                 *y = yr;
@@ -212,7 +218,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     };
     let mut facold: f64 = 1e-4;
     let mut last_rejected = false;
-    let mut stiff_count = 0usize;
+    let (mut stiff_count, mut non_stiff_count) = (0usize, 0usize);
     // Whether h was set to land on an event (exempt from the step floor), and whether the
     // last rejection was for non-finite stages.
     let (mut forced, mut non_finite) = (false, false);
@@ -296,19 +302,24 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                 system.rhs(t + h, &w.y_new, &mut w.k[12]);
                 stats.rhs_evaluations += 1;
                 // Stiffness detection (dop853.f): h·|λ| from the last stage and the new point.
-                if stats.stiff_from.is_none() {
+                if stats.stiff_from.is_none() || limits.stop_when_stiff.is_some() {
                     let (mut num, mut den) = (0.0, 0.0);
                     for i in 0..n {
                         num += (w.k[12][i] - w.k[11][i]).powi(2);
                         den += (w.y_new[i] - w.y_stage[i]).powi(2);
                     }
+                    // As dop853.f: 15 stiff steps, not interrupted by 6 non-stiff ones in a row.
                     if den > 0.0 && h.abs() * (num / den).sqrt() > 6.1 {
+                        non_stiff_count = 0;
                         stiff_count += 1;
-                        if stiff_count == 15 {
+                        if stiff_count == 15 && stats.stiff_from.is_none() {
                             stats.stiff_from = Some(t);
                         }
                     } else {
-                        stiff_count = 0;
+                        non_stiff_count += 1;
+                        if non_stiff_count == 6 {
+                            stiff_count = 0;
+                        }
                     }
                 }
             }
@@ -334,13 +345,25 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                 h_new = h_new.abs().min(h.abs()).copysign(h);
             }
             stats.next_step = h_new.abs();
+            stats.last_step = t - t_prev;
             last_rejected = false;
             let s = Step { t_prev, t, y, kind, cont: &w.cont };
+            let stiff_stop = limits.stop_when_stiff.is_some_and(|after| stats.accepted >= after) && stiff_count >= 15;
             match on_step(&s).map_err(OdeError::Callback)? {
                 Control::Continue => {
                     if last {
                         return Ok(());
                     }
+                    if stiff_stop {
+                        stats.stopped_at = Some(t);
+                        return Ok(());
+                    }
+                }
+                Control::Stop => {
+                    if !last {
+                        stats.stopped_at = Some(t);
+                    }
+                    return Ok(());
                 }
                 Control::Restart { t: tr, y: yr } => {
                     t = tr;
@@ -348,6 +371,10 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                     system.rhs(t, y, &mut w.k[0]);
                     stats.rhs_evaluations += 1;
                     if t >= tf {
+                        return Ok(());
+                    }
+                    if stiff_stop {
+                        stats.stopped_at = Some(t);
                         return Ok(());
                     }
                 }

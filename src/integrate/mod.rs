@@ -17,4 +17,4 @@ mod tableau;
 pub use explicit::integrate;
 pub use newton::{DenseNewton, NewtonMatrix};
 pub use sdirk4::integrate_sdirk4;
-pub use step::{Control, Limits, Method, OdeError, OdeSystem, Stats, Step};
+pub use step::{Control, ErrorNorm, Limits, Method, OdeError, OdeSystem, Stats, Step};

@@ -6,7 +6,7 @@
 //! formed and factored is separate from the method.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, Limits, OdeError, OdeSystem, Stats, Step, announce_start};
+use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start};
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -20,8 +20,18 @@ const A: [[f64; 5]; 5] = [
 /// Embedded third-order weights.
 const B_HAT: [f64; 5] = [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 0.0];
 
-fn norm(v: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
-    let s: f64 = v.iter().zip(y).map(|(e, yi)| (e / (atol + rtol * yi.abs())).powi(2)).sum();
+/// The root-mean-square of `v` scaled by the tolerances at `y`, the components marked in
+/// `rates` weighed by the step `h` ([`OdeSystem::mark_rates`]).
+fn norm(v: &[f64], y: &[f64], rates: &[bool], h: f64, rtol: f64, atol: f64) -> f64 {
+    let s: f64 = v
+        .iter()
+        .zip(y)
+        .zip(rates)
+        .map(|((e, yi), &rate)| {
+            let e = if rate { e * h } else { *e };
+            (e / (atol + rtol * yi.abs())).powi(2)
+        })
+        .sum();
     (s / v.len().max(1) as f64).sqrt()
 }
 
@@ -33,6 +43,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     newton: &mut dyn NewtonMatrix,
     rtol: f64,
     atol: f64,
+    error_norm: ErrorNorm,
     limits: Limits,
     t0: f64,
     tf: f64,
@@ -40,6 +51,12 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     mut on_step: impl FnMut(&Step<'_>) -> Result<Control, E>,
 ) -> Result<Stats, OdeError<E>> {
     let n = y0.len();
+    let mut rates = vec![false; n];
+    if error_norm == ErrorNorm::Displacement {
+        system.mark_rates(&mut rates);
+    }
+    // Accepted steps in a row shorter than `limits.hand_back_below`.
+    let mut short_steps = 0;
     let mut stats = Stats::default();
     let mut y = y0.to_vec();
     let mut t = t0;
@@ -128,7 +145,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 for k in 0..n {
                     z[i][k] += delta[k];
                 }
-                let d = norm(&delta, &yi, rtol, atol);
+                let d = norm(&delta, &yi, &rates, h, rtol, atol);
                 if !d.is_finite() || (previous.is_finite() && d > previous) {
                     non_finite = !d.is_finite();
                     break;
@@ -185,7 +202,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             yi[k] = y[k] + z[4][k];
         }
         // A NaN error (an overflow in the stages) rejects the step (`max` would drop it).
-        let e = norm(&err, &yi, rtol, atol);
+        let e = norm(&err, &yi, &rates, h, rtol, atol);
         let e = if e.is_nan() { f64::INFINITY } else { e.max(1e-10) };
         let mut factor = (0.9 * e.powf(-0.25)).clamp(0.2, 4.0);
         if e <= 1.0 {
@@ -208,8 +225,20 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             y.copy_from_slice(&yi);
             f0.copy_from_slice(&fz[4]);
             t = if landing { stop } else { t + h };
+            stats.last_step = t - t_prev;
+            if let Some((count, below)) = limits.hand_back_below {
+                short_steps = if t - t_prev < below && !landing { short_steps + 1 } else { 0 };
+                if short_steps >= count && t < tf {
+                    stats.stopped_at = Some(t);
+                }
+            }
             match on_step(&Step::hermite(t_prev, t, &y, &cont)).map_err(OdeError::Callback)? {
                 Control::Continue => {}
+                Control::Stop => {
+                    if t < tf {
+                        stats.stopped_at = Some(t);
+                    }
+                }
                 Control::Restart { t: tr, y: yr } => {
                     t = tr;
                     y = yr;
@@ -218,6 +247,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 }
                 Control::Truncate { t: tt } => {
                     // Take the step again from its start to end at tt.
+                    stats.stopped_at = None;
                     y.copy_from_slice(&cont[0]);
                     t = t_prev;
                     system.rhs(t, &y, &mut f0);
@@ -229,7 +259,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 }
             }
             stats.next_step = h * factor;
-            if t >= tf {
+            if t >= tf || stats.stopped_at.is_some() {
                 stats.rhs_evaluations += newton.evaluations();
                 return Ok(stats);
             }
@@ -313,6 +343,7 @@ mod tests {
             &mut newton,
             1e-8,
             1e-10,
+            ErrorNorm::State,
             Limits::default(),
             0.0,
             10.0,

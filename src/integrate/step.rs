@@ -12,6 +12,15 @@ pub trait OdeSystem {
     fn next_break(&self, _t: f64) -> Option<f64> {
         None
     }
+
+    /// Marks in `rates` (all false on entry, one per component) the components that are
+    /// rates of others (velocities of a second-order system). An implicit method weighs
+    /// their error by the step h: the displacement that error makes over a step, in the
+    /// units of the components it drives (Hairer & Wanner, *Solving ODEs II*, §VII.3 and
+    /// §VII.8, scale the error of a DAE's higher-index components by h in the same way).
+    /// The stiff, lightly damped vibrations whose rates the positions never show then
+    /// stop setting the step (docs/integrators.md).
+    fn mark_rates(&self, _rates: &mut [bool]) {}
 }
 
 /// Integration method.
@@ -63,6 +72,11 @@ pub struct Stats {
     /// The step the step-size control proposed after the last accepted step (for a later
     /// integration that goes on from there: [`Limits::first_step`]).
     pub next_step: f64,
+    /// Where the integration stopped before its end, if it did (s): the callback's
+    /// [`Control::Stop`], [`Limits::stop_when_stiff`] or [`Limits::hand_back_below`].
+    pub stopped_at: Option<f64>,
+    /// The last accepted step, s.
+    pub last_step: f64,
 }
 
 impl Stats {
@@ -86,12 +100,19 @@ pub struct Limits {
     /// The step to try first, instead of the method's starting rule (an integration that
     /// goes on from where another stopped: [`Stats::next_step`]).
     pub first_step: Option<f64>,
+    /// Explicit methods (DOP853): stop once the stiffness test finds the step limited by
+    /// stability ([`Stats::stiff_from`]), but not before this many accepted steps, for an
+    /// implicit method to go on.
+    pub stop_when_stiff: Option<usize>,
+    /// Implicit methods: stop once this many accepted steps in a row were shorter than
+    /// the given step (s), for an explicit method to go on (`(steps, h)`).
+    pub hand_back_below: Option<(usize, f64)>,
 }
 
 impl Default for Limits {
     /// No bound beyond round-off.
     fn default() -> Self {
-        Self { min_step: 0.0, max_steps: usize::MAX, first_step: None }
+        Self { min_step: 0.0, max_steps: usize::MAX, first_step: None, stop_when_stiff: None, hand_back_below: None }
     }
 }
 
@@ -160,6 +181,24 @@ pub enum Control {
         /// Time the retaken step should end at.
         t: f64,
     },
+    /// End the integration at the end of this step, as if it were the last: the caller goes
+    /// on from there (with another method, say). [`Stats::stopped_at`] says where.
+    Stop,
+}
+
+/// How an implicit method weighs the error of each component in its step-size control and
+/// its Newton convergence test.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ErrorNorm {
+    /// The components marked by [`OdeSystem::mark_rates`] (velocities) weighed by the step
+    /// h: the error is the displacement a step makes, so tolerances bound positions and
+    /// attitudes, and stiff vibrations whose rates the positions never show do not set
+    /// the step.
+    #[default]
+    Displacement,
+    /// Every component as it is (Hairer's norm): the rates of stiff vibrations resolved to
+    /// the tolerance too, at the cost of steps set by them.
+    State,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,6 +7,7 @@ use super::laws::law;
 use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
 use super::values::{angles, angular_rate, check_finite, positive, vec3};
 use crate::dynamics::Dynamics;
+use crate::integrate::ErrorNorm;
 use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist, initial_state};
 use crate::model::{HingeSpec, Model, ModelError, ParentFrame};
 use crate::observe::{Selection, catalogue};
@@ -108,21 +109,38 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             ),
         ));
     }
+    // No integrator: "auto" (DOP853, and SDIRK4 where stiffness holds DOP853 back).
+    let integrator_name = run.integrator.as_ref().map_or("auto", |s| s.get_ref().as_str());
     let need = |v: &Option<Spanned<f64>>, key: &str, what: &str| -> Result<f64, ScenarioError> {
         match v {
             Some(x) => positive(ctx, x, key, ""),
-            None => Err(ctx
-                .span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{}'", run.integrator.get_ref()))),
+            None => Err(ctx.span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{integrator_name}'"))),
         }
     };
     let forbid = |v: &Option<Spanned<f64>>, key: &str| -> Result<(), ScenarioError> {
         match v {
-            Some(x) => Err(ctx.span(x, format!("'{key}' does not apply to integrator '{}'", run.integrator.get_ref()))),
+            Some(x) => Err(ctx.span(x, format!("'{key}' does not apply to integrator '{integrator_name}'"))),
             None => Ok(()),
         }
     };
-    let integrator = match run.integrator.get_ref().as_str() {
-        name @ ("dop853" | "dopri5" | "sdirk4") => {
+    let error_norm = match run.error_norm.as_ref().map(|s| (s, s.get_ref().as_str())) {
+        None | Some((_, "displacement")) => ErrorNorm::Displacement,
+        Some((_, "state")) => ErrorNorm::State,
+        Some((x, other)) => {
+            return Err(ctx.span(
+                x,
+                format!("unknown run.error_norm '{other}'; valid: \"displacement\" (the default: rates weighed by the step), \"state\" (every component as it is)"),
+            ));
+        }
+    };
+    if let (Some(x), "dop853" | "dopri5" | "rk4") = (&run.error_norm, integrator_name) {
+        return Err(ctx.span(
+            x,
+            format!("'run.error_norm' applies to the implicit steps of integrator \"sdirk4\" or \"auto\", not to '{integrator_name}' (its error control weighs every component as it is)"),
+        ));
+    }
+    let integrator = match integrator_name {
+        name @ ("dop853" | "dopri5" | "sdirk4" | "auto") => {
             forbid(&run.step, "run.step")?;
             let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
             let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
@@ -139,6 +157,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             match name {
                 "dop853" => Integrator::Dop853 { rtol, atol },
                 "dopri5" => Integrator::Dopri5 { rtol, atol },
+                "auto" => Integrator::Auto { rtol, atol },
                 _ => Integrator::Sdirk4 { rtol, atol },
             }
         }
@@ -161,10 +180,13 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             Integrator::Rk4 { step }
         }
         other => {
-            return Err(ctx.span(
-                &run.integrator,
-                format!("unknown integrator '{other}'; valid: \"dop853\", \"dopri5\", \"sdirk4\", \"rk4\""),
-            ));
+            let message = format!(
+                "unknown integrator '{other}'; valid: \"auto\" (the default), \"dop853\", \"dopri5\", \"sdirk4\", \"rk4\""
+            );
+            return Err(match &run.integrator {
+                Some(x) => ctx.span(x, message),
+                None => ctx.span(&raw.run, message),
+            });
         }
     };
     let max_steps = match &run.max_steps {
@@ -190,6 +212,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         duration,
         output_step,
         integrator,
+        error_norm,
         engage_locks_at_start: false,
         max_steps,
         release_at,
@@ -438,7 +461,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     // Every run must end: an explicit method that must follow the fastest hinge for this
     // long would take more steps than any run should (the user may insist).
     if settings.max_steps.is_none()
-        && !matches!(settings.integrator, Integrator::Sdirk4 { .. })
+        && !matches!(settings.integrator, Integrator::Sdirk4 { .. } | Integrator::Auto { .. })
         && default_step_budget(&model, duration) > MAX_DEFAULT_STEP_BUDGET
         && let Some(fastest) = model.fastest_hinge()
     {

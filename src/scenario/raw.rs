@@ -34,7 +34,8 @@ pub(super) struct RawScenario {
 pub(super) struct RawRun {
     pub(super) duration: Spanned<f64>,
     pub(super) output_step: Spanned<f64>,
-    pub(super) integrator: Spanned<String>,
+    pub(super) integrator: Option<Spanned<String>>,
+    pub(super) error_norm: Option<Spanned<String>>,
     pub(super) rtol: Option<Spanned<f64>>,
     pub(super) atol: Option<Spanned<f64>>,
     pub(super) step: Option<Spanned<f64>>,

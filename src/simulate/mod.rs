@@ -9,6 +9,7 @@
 //! - [`run`]: [`simulate`], which streams rows to a [`Sink`];
 //! - [`stepper`]: a run advanced piece by piece ([`Stepper`]), for a controller outside;
 //! - [`stream`]: the step handler a run and a stepped run share;
+//! - [`switching`]: `integrator = "auto"`, DOP853 and SDIRK4 each where it pays;
 //! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
 //! - [`estimate`]: a run's wall time, projected from a short trial of it.
 
@@ -18,8 +19,9 @@ pub mod run;
 pub mod settings;
 pub mod stepper;
 pub mod stream;
+pub mod switching;
 
-pub use report::{Drift, RunReport, SimError};
+pub use report::{Drift, MethodSpan, RunReport, SimError};
 pub use run::{Sink, simulate};
 pub use settings::{Integrator, RunSettings};
 pub use stepper::Stepper;

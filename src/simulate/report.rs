@@ -38,6 +38,19 @@ pub struct Drift {
     pub locked_rotation: f64,
 }
 
+/// A span of a run under `integrator = "auto"` taken by one method.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MethodSpan {
+    /// When the method took over, s.
+    pub from: f64,
+    /// `"dop853"` or `"sdirk4"`.
+    pub method: &'static str,
+    /// Why it took over, for a person.
+    pub why: String,
+    /// The step DOP853 was held to by stability when SDIRK4 took over, s.
+    pub stable_step: Option<f64>,
+}
+
 /// What a finished run reports.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunReport {
@@ -62,6 +75,8 @@ pub struct RunReport {
     /// First time at which the explicit integrator found its step limited by stability (stiff
     /// hinges), if it did.
     pub stiff_from: Option<f64>,
+    /// The methods `integrator = "auto"` used and when it switched (empty for the others).
+    pub methods: Vec<MethodSpan>,
     /// Of the rejected steps, those rejected because Newton did not converge (implicit path).
     pub newton_failures: usize,
     /// Newton iterations (implicit path; zero otherwise).

@@ -6,7 +6,7 @@ use super::settings::{Integrator, MAX_OUTPUT_ROWS, MIN_STEP_BUDGET, RunSettings}
 use super::stream::{OutputTimes, RunState, StreamOut};
 use crate::dynamics::Dynamics;
 use crate::dynamics::newton::GraphNewton;
-use crate::integrate::{Limits, Method, OdeError, Stats, integrate, integrate_sdirk4};
+use crate::integrate::{Control, Limits, Method, OdeError, Stats, integrate, integrate_sdirk4};
 use crate::kinematics::{InitialConditions, initial_state};
 use crate::model::Model;
 use crate::observe::Observer;
@@ -36,7 +36,8 @@ pub fn simulate(
     let (dynamics, y0, mut state) = prepare(model, ic, settings)?;
     let mut out = StreamOut { dynamics: &dynamics, sink, progress, s: &mut state };
     let start = Instant::now();
-    let result = integrate_span(&mut out, settings, 0.0, settings.duration, &y0, None, None);
+    let mut end = y0.clone();
+    let result = integrate_span(&mut out, settings, 0.0, settings.duration, &y0, None, &mut end);
     let wall_seconds = start.elapsed().as_secs_f64();
     let (stats, differenced_jacobians) = result?;
     if state.output_times.peek().is_some() {
@@ -86,6 +87,7 @@ pub(super) fn prepare<'m>(
     breaks.dedup();
     dynamics.set_breaks(breaks.clone());
     let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
+    let may_be_implicit = implicit || matches!(settings.integrator, Integrator::Auto { .. });
     let state = RunState {
         total_mass: model.total_mass(),
         observer: Observer::new(model, ic.hub_attitude, &dynamics.momentum_about_barycenter(&y0)),
@@ -108,7 +110,7 @@ pub(super) fn prepare<'m>(
         // of locked directions moves positions; a rigid-body velocity correction holds the
         // momenta exactly without touching the internal motion (or the locked rates).
         // (Not with external loads: they change the momenta.)
-        momenta: (!model.has_external() && (implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
+        momenta: (!model.has_external() && (may_be_implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),
@@ -116,13 +118,35 @@ pub(super) fn prepare<'m>(
         load_breaks: breaks.into(),
         hinge_loads: settings.hinge_loads,
         released_at: None,
+        spans: Vec::new(),
     };
     Ok((dynamics, y0, state))
 }
 
+/// The run's step handler with the state the integration goes on from after each step
+/// (corrected, or restarted), kept for a stepped run's next piece and for `auto`'s next
+/// method.
+pub(super) struct Tracked<'t, 'a, 'm, 'x, 'y> {
+    pub(super) out: &'t mut StreamOut<'a, 'm, 'x, 'y>,
+    pub(super) end: &'t mut Vec<f64>,
+}
+
+impl Tracked<'_, '_, '_, '_, '_> {
+    /// Handles an accepted step and records the state the integration goes on from.
+    pub(super) fn on_step(&mut self, step: &crate::integrate::Step<'_>) -> Result<Control, SimError> {
+        let control = self.out.on_step(step)?;
+        match &control {
+            Control::Continue | Control::Stop => self.end.clone_from_slice(step.y),
+            Control::Restart { y, .. } => self.end.clone_from_slice(y),
+            Control::Truncate { .. } => {}
+        }
+        Ok(control)
+    }
+}
+
 /// Integrates from `(t0, y0)` to `t1` with the run's step handler `out`, trying
-/// `first_step` first when given. Returns the integrator's figures and how many Jacobians
-/// were differenced.
+/// `first_step` first when given, and leaves the state reached in `end`. Returns the
+/// integrator's figures and how many Jacobians were differenced.
 pub(super) fn integrate_span(
     out: &mut StreamOut<'_, '_, '_, '_>,
     settings: &RunSettings,
@@ -130,30 +154,23 @@ pub(super) fn integrate_span(
     t1: f64,
     y0: &[f64],
     first_step: Option<f64>,
-    end: Option<&mut Vec<f64>>,
+    end: &mut Vec<f64>,
 ) -> Result<(Stats, usize), SimError> {
     let dynamics = out.dynamics;
-    // The state the integration goes on from after each step (corrected, or restarted),
-    // kept when asked for: a stepped run goes on from the last one.
-    let mut end = end;
-    let mut on_step = |step: &crate::integrate::Step<'_>| {
-        let control = out.on_step(step)?;
-        if let Some(end) = end.as_deref_mut() {
-            match &control {
-                crate::integrate::Control::Continue => end.clone_from_slice(step.y),
-                crate::integrate::Control::Restart { y, .. } => end.clone_from_slice(y),
-                crate::integrate::Control::Truncate { .. } => {}
-            }
-        }
-        Ok(control)
-    };
     let model = dynamics.model();
     let limits = Limits { first_step, ..settings.limits(model) };
+    end.clone_from_slice(y0);
+    if let Integrator::Auto { rtol, atol } = settings.integrator {
+        return super::switching::integrate_auto(out, settings, rtol, atol, t0, t1, y0, first_step, end);
+    }
+    let mut tracked = Tracked { out, end };
+    let on_step = |step: &crate::integrate::Step<'_>| tracked.on_step(step);
     let mut differenced_jacobians = 0;
     let result = match settings.integrator {
         Integrator::Sdirk4 { rtol, atol } => {
             let mut newton = GraphNewton::new_exact(dynamics, model, dynamics);
-            let r = integrate_sdirk4(dynamics, &mut newton, rtol, atol, limits, t0, t1, y0, &mut on_step);
+            let r =
+                integrate_sdirk4(dynamics, &mut newton, rtol, atol, settings.error_norm, limits, t0, t1, y0, on_step);
             differenced_jacobians = newton.jacobian_counts().1;
             r
         }
@@ -162,9 +179,9 @@ pub(super) fn integrate_span(
                 Integrator::Dop853 { rtol, atol } => Method::Dop853 { rtol, atol },
                 Integrator::Dopri5 { rtol, atol } => Method::Dopri5 { rtol, atol },
                 Integrator::Rk4 { step } => Method::Rk4 { step },
-                Integrator::Sdirk4 { .. } => unreachable!("handled above"),
+                Integrator::Sdirk4 { .. } | Integrator::Auto { .. } => unreachable!("handled above"),
             };
-            integrate(dynamics, method, limits, t0, t1, y0, &mut on_step)
+            integrate(dynamics, method, limits, t0, t1, y0, on_step)
         }
     };
     let stats = result.map_err(|e| stopped(dynamics, settings, &limits, e))?;
@@ -202,6 +219,7 @@ pub(super) fn report(
         events: state.events.clone(),
         branch_events: state.branch_events,
         stiff_from: stats.stiff_from,
+        methods: state.spans.clone(),
         deployed_90: state.deployed_90,
         deployed_start: state.deployed_range.0,
         deployed_max: state.deployed_range.1,
@@ -216,7 +234,12 @@ pub(super) fn report(
 /// Why the integrator stopped, in the user's terms: what it could not do, the hinge or body
 /// responsible (the fastest hinge direction, or the body whose state or acceleration is not
 /// finite), and what to change.
-fn stopped(dynamics: &Dynamics<'_>, settings: &RunSettings, limits: &Limits, e: OdeError<SimError>) -> SimError {
+pub(super) fn stopped(
+    dynamics: &Dynamics<'_>,
+    settings: &RunSettings,
+    limits: &Limits,
+    e: OdeError<SimError>,
+) -> SimError {
     let model = dynamics.model();
     let rate = model.fastest_hinge();
     let fastest = rate.map(|r| format!(" The fastest hinge is {}.", r.describe(model))).unwrap_or_default();

@@ -1,7 +1,7 @@
 //! What a run is asked to do: duration, output step and integrator, and the bounds that make
 //! every run end.
 
-use crate::integrate::Limits;
+use crate::integrate::{ErrorNorm, Limits};
 use crate::model::Model;
 
 /// Time integration method.
@@ -29,6 +29,14 @@ pub enum Integrator {
         /// Absolute tolerance per component.
         atol: f64,
     },
+    /// DOP853 while it pays, SDIRK4 where stiffness limits DOP853's steps, and back: the
+    /// default (docs/integrators.md; [`super::switching`]).
+    Auto {
+        /// Relative tolerance per component.
+        rtol: f64,
+        /// Absolute tolerance per component.
+        atol: f64,
+    },
     /// Classical fourth-order Runge–Kutta with a fixed step.
     Rk4 {
         /// Step, s.
@@ -43,6 +51,7 @@ impl Integrator {
             Integrator::Dop853 { .. } => "dop853",
             Integrator::Dopri5 { .. } => "dopri5",
             Integrator::Sdirk4 { .. } => "sdirk4",
+            Integrator::Auto { .. } => "auto",
             Integrator::Rk4 { .. } => "rk4",
         }
     }
@@ -57,6 +66,10 @@ pub struct RunSettings {
     pub output_step: f64,
     /// Integration method.
     pub integrator: Integrator,
+    /// How the implicit steps (SDIRK4, and `auto`'s implicit spans) weigh each component's
+    /// error (`run.error_norm`): the rates by the step (the default), or every component
+    /// as it is.
+    pub error_norm: ErrorNorm,
     /// Solve for every lock from the start, rather than engaging each once it carries load
     /// (see [`crate::dynamics::Dynamics::disengage_locks`]): the same motion at a higher
     /// cost, for comparison. Not a scenario key; false from a scenario.
@@ -117,6 +130,6 @@ impl RunSettings {
         let max_steps = self
             .max_steps
             .unwrap_or_else(|| default_step_budget(model, self.duration).min(MAX_DEFAULT_STEP_BUDGET) as usize);
-        Limits { min_step: MIN_STEP_OF_DURATION * self.duration, max_steps, first_step: None }
+        Limits { min_step: MIN_STEP_OF_DURATION * self.duration, max_steps, ..Limits::default() }
     }
 }

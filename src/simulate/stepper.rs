@@ -103,7 +103,7 @@ impl<'m> Stepper<'m> {
         let mut out = StreamOut { dynamics: &self.dynamics, sink: &mut sink, progress: None, s: &mut self.state };
         let mut y = self.y.clone();
         let start = std::time::Instant::now();
-        let result = integrate_span(&mut out, &self.settings, self.t, t1, &self.y, self.next_step, Some(&mut y));
+        let result = integrate_span(&mut out, &self.settings, self.t, t1, &self.y, self.next_step, &mut y);
         self.wall_seconds += start.elapsed().as_secs_f64();
         let (stats, differenced) = result?;
         self.stats.accepted += stats.accepted;

@@ -68,6 +68,8 @@ pub(super) struct RunState {
     pub(super) hinge_loads: bool,
     /// When it let go, s.
     pub(super) released_at: Option<f64>,
+    /// The methods `integrator = "auto"` used, in order.
+    pub(super) spans: Vec<super::report::MethodSpan>,
 }
 
 /// A run's step handler: the dynamics, where rows go, the progress callback, and the run's

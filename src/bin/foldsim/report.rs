@@ -42,7 +42,18 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         };
         outln!("  newton           {} iterations, {} Jacobians ({how})", r.newton_iterations, r.jacobians);
     }
-    if let Some(t) = r.stiff_from {
+    if !r.methods.is_empty() {
+        // integrator = "auto": which method ran when, and why it took over.
+        let switches = r.methods.len() - 1;
+        let shown = 6;
+        for (k, m) in r.methods.iter().enumerate().take(shown) {
+            let head = if k == 0 { "  auto             " } else { "                   " };
+            outln!("{head}{} from t = {:.4} s ({})", m.method, m.from, m.why);
+        }
+        if switches + 1 > shown {
+            outln!("                   ... {} switches in all", switches);
+        }
+    } else if let Some(t) = r.stiff_from {
         outln!(
             "  note: from t = {t:.4} s the explicit steps were limited by stability, not accuracy: stiff hinges; integrator = \"sdirk4\" (implicit) suits this run better"
         );

@@ -1,0 +1,144 @@
+//! `integrator = "auto"`: DOP853 while it pays, SDIRK4 where stiffness limits DOP853's
+//! steps, and back when the implicit steps shrink to where DOP853 would be cheaper.
+//!
+//! The switch to SDIRK4 is Hairer's stiffness test in DOP853 (`dop853.f`: h·|λ| beyond the
+//! stability boundary, 6.1, on 15 accepted steps in a row), the same test that the report's
+//! stiffness note prints. The switch back is a cost comparison made from step sizes alone,
+//! so that a run is the same on every machine: an SDIRK4 step costs about
+//! [`IMPLICIT_STEP_COST`] DOP853 steps (its five stages' Newton iterations, each one
+//! right-hand side and one sparse solve, and its share of Jacobians), so SDIRK4 hands back
+//! once [`HAND_BACK_STEPS`] of its steps in a row were shorter than that many times the
+//! step DOP853 was held to by stability. After each hand-back DOP853 runs at least twice
+//! as many steps as before it may switch again, so two methods of equal cost cannot
+//! ping-pong. Every switch is recorded for the report ([`MethodSpan`]).
+
+use super::report::{MethodSpan, SimError};
+use super::run::{Tracked, stopped};
+use super::settings::RunSettings;
+use super::stream::StreamOut;
+use crate::dynamics::newton::GraphNewton;
+use crate::integrate::{Limits, Method, Stats, integrate, integrate_sdirk4};
+
+/// The cost of one SDIRK4 step in DOP853 steps (15 right-hand sides each), measured on the
+/// starshade flasher (228 panels): about 18 right-hand sides, 14 sparse solves of about the
+/// same cost, and a Jacobian every 20 steps or so at about 100 right-hand sides.
+pub const IMPLICIT_STEP_COST: f64 = 3.0;
+
+/// Accepted SDIRK4 steps in a row shorter than the break-even step before it hands back.
+pub const HAND_BACK_STEPS: usize = 20;
+
+/// The fewest DOP853 steps before the first switch (and the base of the doubling after
+/// each hand-back).
+pub const FIRST_WATCH_STEPS: usize = 15;
+
+/// Integrates from `(t0, y0)` to `t1` switching between DOP853 and SDIRK4 at `rtol`, `atol`;
+/// the spans each method took are appended to `spans`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn integrate_auto(
+    out: &mut StreamOut<'_, '_, '_, '_>,
+    settings: &RunSettings,
+    rtol: f64,
+    atol: f64,
+    t0: f64,
+    t1: f64,
+    y0: &[f64],
+    first_step: Option<f64>,
+    end: &mut Vec<f64>,
+) -> Result<(Stats, usize), SimError> {
+    let dynamics = out.dynamics;
+    let model = dynamics.model();
+    let base = settings.limits(model);
+    let mut newton = GraphNewton::new_exact(dynamics, model, dynamics);
+    let mut total = Stats::default();
+    let (mut t, mut first) = (t0, first_step);
+    let mut y = y0.to_vec();
+    end.clone_from_slice(y0);
+    // Go on in the method of the span before (a stepped run's next piece).
+    let spans = &out.s.spans;
+    let mut implicit = spans.last().is_some_and(|s| s.method == "sdirk4");
+    let mut stable_step = spans.iter().rev().find_map(|s| s.stable_step).unwrap_or(f64::INFINITY);
+    let mut watch = FIRST_WATCH_STEPS << spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1).min(20);
+    if spans.is_empty() {
+        out.s.spans.push(MethodSpan { from: t0, method: "dop853", why: "the start".into(), stable_step: None });
+    }
+    loop {
+        let steps_so_far = total.accepted + total.rejected;
+        let max_steps = base.max_steps.saturating_sub(steps_so_far).max(1);
+        out.s.restore_every_step = implicit;
+        let mut tracked = Tracked { out: &mut *out, end: &mut *end };
+        let (limits, result) = if implicit {
+            let limits = Limits {
+                first_step: first,
+                max_steps,
+                hand_back_below: stable_step
+                    .is_finite()
+                    .then_some((HAND_BACK_STEPS, IMPLICIT_STEP_COST * stable_step)),
+                ..base
+            };
+            let r = integrate_sdirk4(
+                dynamics,
+                &mut newton,
+                rtol,
+                atol,
+                settings.error_norm,
+                limits,
+                t,
+                t1,
+                &y,
+                |s: &crate::integrate::Step<'_>| tracked.on_step(s),
+            );
+            (limits, r)
+        } else {
+            let limits = Limits { first_step: first, max_steps, stop_when_stiff: Some(watch), ..base };
+            let r = integrate(dynamics, Method::Dop853 { rtol, atol }, limits, t, t1, &y, |s: &crate::integrate::Step<'_>| {
+                tracked.on_step(s)
+            });
+            (limits, r)
+        };
+        let stats = result.map_err(|e| stopped(dynamics, settings, &limits, e))?;
+        add(&mut total, &stats);
+        let Some(at) = stats.stopped_at else { break };
+        t = at;
+        y.clone_from(end);
+        if implicit {
+            out.s.spans.push(MethodSpan {
+                from: t,
+                method: "dop853",
+                why: format!(
+                    "{HAND_BACK_STEPS} implicit steps in a row below {:.3e} s, where DOP853 costs less",
+                    IMPLICIT_STEP_COST * stable_step
+                ),
+                stable_step: None,
+            });
+            watch *= 2;
+            first = Some(stable_step);
+        } else {
+            stable_step = stats.last_step;
+            out.s.spans.push(MethodSpan {
+                from: t,
+                method: "sdirk4",
+                why: format!("stiff: DOP853's steps ({:.3e} s) held by stability, not accuracy", stats.last_step),
+                stable_step: Some(stats.last_step),
+            });
+            first = Some(4.0 * stats.last_step);
+        }
+        implicit = !implicit;
+    }
+    total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == "sdirk4").map(|s| s.from));
+    Ok((total, newton.jacobian_counts().1))
+}
+
+/// Adds one span's counters to the run's.
+fn add(total: &mut Stats, s: &Stats) {
+    total.accepted += s.accepted;
+    total.rejected += s.rejected;
+    total.newton_failures += s.newton_failures;
+    total.rhs_evaluations += s.rhs_evaluations;
+    total.newton_iterations += s.newton_iterations;
+    total.jacobians += s.jacobians;
+    total.refactorizations += s.refactorizations;
+    total.stiff_from = total.stiff_from.or(s.stiff_from);
+    total.next_step = s.next_step;
+    total.last_step = s.last_step;
+    total.stopped_at = None;
+}

@@ -40,7 +40,12 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
         } else {
             "exact, by dual numbers"
         };
-        outln!("  newton           {} iterations, {} Jacobians ({how})", r.newton_iterations, r.jacobians);
+        outln!(
+            "  newton           {} iterations, {} Jacobians ({how}), {} refactorizations for a new step",
+            r.newton_iterations,
+            r.jacobians,
+            r.refactorizations
+        );
     }
     if !r.methods.is_empty() {
         // integrator = "auto": which method ran when, and why it took over.

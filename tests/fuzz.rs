@@ -180,7 +180,7 @@ fn check(name: &str, text: &str) -> Outcome {
         // they start and step, not how they end.
         let start = Instant::now();
         let mut progress =
-            |_: f64| if start.elapsed() > RUN_WALL { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+            |_: &foldsim::simulate::Progress<'_, '_>| if start.elapsed() > RUN_WALL { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
         foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, Some(&mut progress))
     }));
     match ran {

@@ -23,9 +23,12 @@ use std::ops::ControlFlow;
 /// briefly) and stops the run on Ctrl-C; it also hands the simulated time (s) to `report`
 /// (a progress bar's update), if given. An exception raised by `report` is ignored (a progress
 /// display must not end a run), except Ctrl-C's KeyboardInterrupt, which stops it.
-pub(crate) fn interrupt_check(report: Option<Py<PyAny>>) -> impl FnMut(f64) -> ControlFlow<()> {
+pub(crate) fn interrupt_check(
+    report: Option<Py<PyAny>>,
+) -> impl FnMut(&foldsim::simulate::Progress<'_, '_>) -> ControlFlow<()> {
     let mut last = std::time::Instant::now();
-    move |t: f64| {
+    move |p: &foldsim::simulate::Progress<'_, '_>| {
+        let t = p.t;
         if last.elapsed().as_millis() < 100 {
             return ControlFlow::Continue(());
         }

@@ -77,8 +77,8 @@ pub fn estimate(model: &Model, initial: &InitialConditions, settings: &RunSettin
         Ok(())
     };
     let mut last_t = 0.0;
-    let mut progress = |t: f64| {
-        last_t = t;
+    let mut progress = |p: &super::Progress<'_, '_>| {
+        last_t = p.t;
         if started.elapsed() > budget { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     };
     let result = simulate(model, initial, settings, &mut sink, Some(&mut progress));

@@ -10,10 +10,12 @@
 //! - [`stepper`]: a run advanced piece by piece ([`Stepper`]), for a controller outside;
 //! - [`stream`]: the step handler a run and a stepped run share;
 //! - [`switching`]: `integrator = "auto"`, DOP853 and SDIRK4 each where it pays;
+//! - [`pace`]: what the progress callback is told ([`Progress`]), and what holds a run's steps back;
 //! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
 //! - [`estimate`]: a run's wall time, projected from a short trial of it.
 
 pub mod estimate;
+pub mod pace;
 pub mod report;
 pub mod run;
 pub mod settings;
@@ -21,6 +23,7 @@ pub mod stepper;
 pub mod stream;
 pub mod switching;
 
+pub use pace::Progress;
 pub use report::{Drift, MethodSpan, RunReport, SimError};
 pub use run::{Sink, simulate};
 pub use settings::{Integrator, RunSettings};

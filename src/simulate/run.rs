@@ -1,6 +1,7 @@
 //! A run: its preparation, the integration over a span of time with the step handler of
 //! [`super::stream`], its report, and why it stopped when it did.
 
+use super::pace::Progress;
 use super::report::{Drift, RunReport, SimError};
 use super::settings::{Integrator, MAX_OUTPUT_ROWS, MIN_STEP_BUDGET, RunSettings};
 use super::stream::{OutputTimes, RunState, StreamOut};
@@ -16,14 +17,15 @@ use std::time::Instant;
 pub use super::stream::Sink;
 
 /// Runs a simulation from `ic`, streaming every output row to `sink`. `progress` is called
-/// with the simulated time after each accepted step; returning `ControlFlow::Break` stops the
-/// run with [`SimError::Interrupted`] (how a Ctrl-C reaches it).
+/// after each accepted step with the time reached, the step and what holds it back
+/// ([`Progress`]); returning `ControlFlow::Break` stops the run with
+/// [`SimError::Interrupted`] (how a Ctrl-C reaches it).
 pub fn simulate(
     model: &Model,
     ic: &InitialConditions,
     settings: &RunSettings,
     sink: &mut dyn Sink,
-    progress: Option<&mut dyn FnMut(f64) -> ControlFlow<()>>,
+    progress: Option<&mut dyn FnMut(&Progress<'_, '_>) -> ControlFlow<()>>,
 ) -> Result<RunReport, SimError> {
     if !(settings.duration > 0.0 && settings.output_step > 0.0)
         || settings.duration / settings.output_step > MAX_OUTPUT_ROWS
@@ -119,6 +121,14 @@ pub(super) fn prepare<'m>(
         hinge_loads: settings.hinge_loads,
         released_at: None,
         spans: Vec::new(),
+        method: match settings.integrator {
+            Integrator::Auto { .. } => "dop853",
+            other => other.name(),
+        },
+        steps: 0,
+        step_budget: settings.limits(model).max_steps,
+        window_longest: 0.0,
+        started: Instant::now(),
     };
     Ok((dynamics, y0, state))
 }

@@ -8,6 +8,7 @@ use crate::integrate::{Control, Step};
 use crate::law::EventKind;
 use crate::observe::{Observation, Observer};
 use crate::state::BODY_STATE_LEN;
+use super::pace::Progress;
 use std::ops::ControlFlow;
 
 /// Receives output rows in time order.
@@ -70,14 +71,28 @@ pub(super) struct RunState {
     pub(super) released_at: Option<f64>,
     /// The methods `integrator = "auto"` used, in order.
     pub(super) spans: Vec<super::report::MethodSpan>,
+    /// The method taking the steps (under `auto`, the one in use).
+    pub(super) method: &'static str,
+    /// Accepted steps so far.
+    pub(super) steps: usize,
+    /// The run's step budget (`RunSettings::limits`), and the longest step of the current
+    /// window of [`PACE_WINDOW`] steps, s: a run whose pace cannot finish within the budget
+    /// stops early and says so.
+    pub(super) step_budget: usize,
+    pub(super) window_longest: f64,
+    /// When the run started (for the projected wall time of a run stopped for its pace).
+    pub(super) started: std::time::Instant,
 }
+
+/// Steps between checks of a run's pace against its step budget.
+pub const PACE_WINDOW: usize = 10_000;
 
 /// A run's step handler: the dynamics, where rows go, the progress callback, and the run's
 /// state.
 pub(super) struct StreamOut<'a, 'm, 'x, 'y> {
     pub(super) dynamics: &'a Dynamics<'m>,
     pub(super) sink: &'a mut (dyn Sink + 'x),
-    pub(super) progress: Option<&'a mut (dyn FnMut(f64) -> ControlFlow<()> + 'y)>,
+    pub(super) progress: Option<&'a mut (dyn FnMut(&Progress<'_, '_>) -> ControlFlow<()> + 'y)>,
     pub(super) s: &'a mut RunState,
 }
 
@@ -401,7 +416,7 @@ impl StreamOut<'_, '_, '_, '_> {
             self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
             self.apply_event(k, step.t, step.y)?;
             self.s.t_reached = step.t;
-            self.report_progress(step.t)?;
+            self.report_progress(step)?;
             let mut y = step.y.to_vec();
             self.correct(&mut y);
             return Ok(Control::Restart { t: step.t, y });
@@ -416,7 +431,7 @@ impl StreamOut<'_, '_, '_, '_> {
             self.dynamics.event_values(step.y, &mut self.s.g_prev);
         }
         self.s.t_reached = step.t;
-        self.report_progress(step.t)?;
+        self.report_progress(step)?;
         if self.s.release_at.is_some_and(|tr| (step.t - tr).abs() <= tiny) {
             // The restraint lets go at the end of this step (which was cut to end there).
             self.s.release_at = None;
@@ -439,11 +454,61 @@ impl StreamOut<'_, '_, '_, '_> {
     }
 
     /// Tells the progress callback the time reached; stops the run if it asks to.
-    fn report_progress(&mut self, t: f64) -> Result<(), SimError> {
-        match self.progress.as_mut().map(|p| p(t)) {
-            Some(ControlFlow::Break(())) => Err(SimError::Interrupted { t }),
-            _ => Ok(()),
+    fn report_progress(&mut self, step: &Step<'_>) -> Result<(), SimError> {
+        if step.t > step.t_prev {
+            self.s.steps += 1;
+            self.s.window_longest = self.s.window_longest.max(step.t - step.t_prev);
+            if self.s.steps.is_multiple_of(PACE_WINDOW) {
+                self.check_pace(step)?;
+            }
         }
+        let Some(callback) = self.progress.as_mut() else { return Ok(()) };
+        let progress = Progress {
+            t: step.t,
+            step: step.t - step.t_prev,
+            method: self.s.method,
+            dynamics: self.dynamics,
+            y: step.y,
+            events: self.s.events.len() + self.s.lock_engagements.len(),
+            steps: self.s.steps,
+        };
+        match callback(&progress) {
+            ControlFlow::Break(()) => Err(SimError::Interrupted { t: step.t }),
+            ControlFlow::Continue(()) => Ok(()),
+        }
+    }
+
+    /// Stops a run that cannot finish within its step budget at its pace: even at the longest
+    /// step of the last [`PACE_WINDOW`], the time left needs more steps than the budget has
+    /// left (a run that would otherwise crawl for hours before failing). Deterministic: it
+    /// counts steps, not seconds.
+    fn check_pace(&mut self, step: &Step<'_>) -> Result<(), SimError> {
+        let (longest, left) = (self.s.window_longest, self.s.output_times.end - step.t);
+        self.s.window_longest = 0.0;
+        let needed = left / longest;
+        if !(self.s.steps as f64 + needed > self.s.step_budget as f64) {
+            return Ok(());
+        }
+        let wall = self.s.started.elapsed().as_secs_f64();
+        let projected = wall * (self.s.steps as f64 + needed) / self.s.steps as f64;
+        let pace = Progress {
+            t: step.t,
+            step: step.t - step.t_prev,
+            method: self.s.method,
+            dynamics: self.dynamics,
+            y: step.y,
+            events: self.s.events.len() + self.s.lock_engagements.len(),
+            steps: self.s.steps,
+        }
+        .pace();
+        Err(SimError::Integrator {
+            t: step.t,
+            message: format!(
+                "stopped early: at its pace the run cannot finish. None of the last {PACE_WINDOW} steps was longer than {longest:.3e} s, so the {left:.4} s left need at least {needed:.2e} more steps, beyond the run's budget of {:e} (run.max_steps; by default 10 × duration × the fastest hinge rate), about {} of wall time on this machine. What holds the steps back: {pace}",
+                self.s.step_budget as f64,
+                super::estimate::human_seconds(projected)
+            ),
+        })
     }
 
     /// Holds locked directions on their constraints once they drift, and the momenta where

@@ -191,7 +191,7 @@ impl Sweep {
             Ok(())
         };
         let mut progress =
-            |_t: f64| if stop.load(Ordering::Relaxed) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+            |_: &crate::simulate::Progress<'_, '_>| if stop.load(Ordering::Relaxed) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
         // A metric of a hinge-load column needs the locks' reactions in it, as the CSV has.
         let settings = RunSettings { hinge_loads: self.hinge_loads, ..s.settings };
         match simulate(&s.model, &s.initial, &settings, &mut sink, Some(&mut progress)) {

@@ -90,9 +90,16 @@ pub(crate) fn run(
         bar
     });
     let mut watch = crate::watch::Watch::new("foldsim run", quiet);
-    let hint = "to shorten it, loosen run.rtol and run.atol, soften or damp the stiffest hinges, try integrator = \"sdirk4\" for stiff hinges, or shorten run.duration; Ctrl-C stops it";
-    let mut tick = |t: f64| {
-        watch.tick(t, duration, "s", hint);
+    let mut tick = |p: &foldsim::simulate::Progress<'_, '_>| {
+        let t = p.t;
+        watch.tick(t, duration, "s", || {
+            format!(
+                "steps of {:.2e} s ({}); what holds them back: {}; or shorten run.duration. Ctrl-C stops it",
+                p.step,
+                p.method,
+                p.pace()
+            )
+        });
         if let Some(b) = &bar {
             b.set_position((1000.0 * t / duration) as u64);
             b.set_message(format!("{t:.3} s"));

@@ -40,8 +40,10 @@ impl Watch {
         Self { what, started: now, last_report: now, lines, every: report_every(), warned: false }
     }
 
-    /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`).
-    pub(crate) fn tick(&mut self, done: f64, total: f64, unit: &str, hint: &str) {
+    /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`);
+    /// `hint` says, when asked (once, for a long run), what holds it back and what would
+    /// shorten it.
+    pub(crate) fn tick(&mut self, done: f64, total: f64, unit: &str, hint: impl FnOnce() -> String) {
         let wall = self.started.elapsed().as_secs_f64();
         let left = if done > 0.0 { wall * (total - done) / done } else { f64::INFINITY };
         if !self.warned && wall >= 1.0 {
@@ -50,8 +52,9 @@ impl Watch {
                 let projected =
                     if left.is_finite() { format!("about {}", human_seconds(wall + left)) } else { "very long".into() };
                 eprintln!(
-                    "note: {} will take {projected} ({done:.4} of {total} {unit} after {wall:.1} s); {hint}",
-                    self.what
+                    "note: {} will take {projected} ({done:.4} of {total} {unit} after {wall:.1} s); {}",
+                    self.what,
+                    hint()
                 );
             }
         }

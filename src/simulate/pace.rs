@@ -1,0 +1,60 @@
+//! What a run's progress callback is told after each accepted step, and what holds its steps
+//! back, for a person deciding whether to wait (the command line's early note on a long run).
+
+use crate::dynamics::Dynamics;
+
+/// A run's progress after an accepted step.
+pub struct Progress<'p, 'm> {
+    /// Simulated time reached, s.
+    pub t: f64,
+    /// The last accepted step, s (0 at a restart).
+    pub step: f64,
+    /// The method that took it: `"dop853"`, `"sdirk4"`, … (under `auto`, the one in use).
+    pub method: &'static str,
+    pub(super) dynamics: &'p Dynamics<'m>,
+    pub(super) y: &'p [f64],
+    /// Law events, lock engagements and restarts so far.
+    pub(super) events: usize,
+    /// Accepted steps so far.
+    pub(super) steps: usize,
+}
+
+impl Progress<'_, '_> {
+    /// What holds the steps back at this state, and what the user can change: stiffness
+    /// (an explicit method's steps near the fastest hinge's period), contact, events, a
+    /// fast body, or the tolerances. For a person; costs one right-hand side.
+    pub fn pace(&self) -> String {
+        let model = self.dynamics.model();
+        let fastest = model.fastest_hinge();
+        let explicit = matches!(self.method, "dop853" | "dopri5" | "rk4");
+        // An explicit method's stability boundary is a few units of h·|λ| (DOP853's test
+        // takes 6.1); steps within a factor of ~10 of it are held by the fastest vibration.
+        if explicit && let Some(r) = fastest.filter(|r| self.step * r.rate > 0.3) {
+            return format!(
+                "stiffness: {} holds the explicit steps ({:.2e} s) near its period; integrator = \"auto\" or \"sdirk4\" steps over it, or make that hinge softer or its bodies heavier",
+                r.describe(model),
+                self.step
+            );
+        }
+        if let Some((summary, touched)) = self.dynamics.row_contact(self.y)
+            && touched.iter().any(|&t| t)
+        {
+            let bodies = touched.iter().filter(|&&t| t).count();
+            return format!(
+                "contact: {bodies} bodies touching (deepest {:.2e} m); each impact is followed through the contact law's stiffness; a softer contact.stiffness (deeper penetration) or a looser run.rtol shortens it",
+                summary.deepest.0
+            );
+        }
+        if self.steps > 0 && self.events * 10 > self.steps {
+            return format!(
+                "events: {} law events, lock engagements or restarts in {} steps, each restarting the integration; a hinge law with fewer corners (stops, tables) shortens it",
+                self.events, self.steps
+            );
+        }
+        let body = self.dynamics.fastest_body(self.y).unwrap_or_default();
+        format!(
+            "accuracy: the tolerances set the steps ({:.2e} s; {body}: a body that fast may have too small a mass or inertia); a looser run.rtol and run.atol shortens it",
+            self.step
+        )
+    }
+}

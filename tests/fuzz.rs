@@ -179,8 +179,9 @@ fn check(name: &str, text: &str) -> Outcome {
         // Long runs (the large flasher) are stopped after RUN_WALL: what is tested is that
         // they start and step, not how they end.
         let start = Instant::now();
-        let mut progress =
-            |_: &foldsim::simulate::Progress<'_, '_>| if start.elapsed() > RUN_WALL { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+        let mut progress = |_: &foldsim::simulate::Progress<'_, '_>| {
+            if start.elapsed() > RUN_WALL { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        };
         foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, Some(&mut progress))
     }));
     match ran {

@@ -3,6 +3,9 @@
 
 use crate::dynamics::Dynamics;
 
+/// A run's progress callback: told after every accepted step, it may stop the run.
+pub type ProgressFn<'y> = dyn FnMut(&Progress<'_, '_>) -> std::ops::ControlFlow<()> + 'y;
+
 /// A run's progress after an accepted step.
 pub struct Progress<'p, 'm> {
     /// Simulated time reached, s.

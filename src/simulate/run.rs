@@ -1,7 +1,7 @@
 //! A run: its preparation, the integration over a span of time with the step handler of
 //! [`super::stream`], its report, and why it stopped when it did.
 
-use super::pace::Progress;
+use super::pace::ProgressFn;
 use super::report::{Drift, RunReport, SimError};
 use super::settings::{Integrator, MAX_OUTPUT_ROWS, MIN_STEP_BUDGET, RunSettings};
 use super::stream::{OutputTimes, RunState, StreamOut};
@@ -11,7 +11,6 @@ use crate::integrate::{Control, Limits, Method, OdeError, Stats, integrate, inte
 use crate::kinematics::{InitialConditions, initial_state};
 use crate::model::Model;
 use crate::observe::Observer;
-use std::ops::ControlFlow;
 use std::time::Instant;
 
 pub use super::stream::Sink;
@@ -25,7 +24,7 @@ pub fn simulate(
     ic: &InitialConditions,
     settings: &RunSettings,
     sink: &mut dyn Sink,
-    progress: Option<&mut dyn FnMut(&Progress<'_, '_>) -> ControlFlow<()>>,
+    progress: Option<&mut ProgressFn<'_>>,
 ) -> Result<RunReport, SimError> {
     if !(settings.duration > 0.0 && settings.output_step > 0.0)
         || settings.duration / settings.output_step > MAX_OUTPUT_ROWS

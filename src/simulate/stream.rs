@@ -2,13 +2,13 @@
 //! located law events, lock engagement, breaks of the right-hand side, momentum restoration,
 //! and the conservation figures, with the state a run keeps between its steps.
 
+use super::pace::{Progress, ProgressFn};
 use super::report::{Drift, SimError};
 use crate::dynamics::{Dynamics, LawEvent};
 use crate::integrate::{Control, Step};
 use crate::law::EventKind;
 use crate::observe::{Observation, Observer};
 use crate::state::BODY_STATE_LEN;
-use super::pace::Progress;
 use std::ops::ControlFlow;
 
 /// Receives output rows in time order.
@@ -92,7 +92,7 @@ pub const PACE_WINDOW: usize = 10_000;
 pub(super) struct StreamOut<'a, 'm, 'x, 'y> {
     pub(super) dynamics: &'a Dynamics<'m>,
     pub(super) sink: &'a mut (dyn Sink + 'x),
-    pub(super) progress: Option<&'a mut (dyn FnMut(&Progress<'_, '_>) -> ControlFlow<()> + 'y)>,
+    pub(super) progress: Option<&'a mut ProgressFn<'y>>,
     pub(super) s: &'a mut RunState,
 }
 
@@ -486,7 +486,8 @@ impl StreamOut<'_, '_, '_, '_> {
         let (longest, left) = (self.s.window_longest, self.s.output_times.end - step.t);
         self.s.window_longest = 0.0;
         let needed = left / longest;
-        if !(self.s.steps as f64 + needed > self.s.step_budget as f64) {
+        // (A NaN `needed`, a window without steps, never stops a run.)
+        if self.s.steps as f64 + needed <= self.s.step_budget as f64 || needed.is_nan() {
             return Ok(());
         }
         let wall = self.s.started.elapsed().as_secs_f64();

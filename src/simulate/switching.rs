@@ -57,7 +57,8 @@ pub(super) fn integrate_auto(
     let spans = &out.s.spans;
     let mut implicit = spans.last().is_some_and(|s| s.method == "sdirk4");
     let mut stable_step = spans.iter().rev().find_map(|s| s.stable_step).unwrap_or(f64::INFINITY);
-    let mut watch = FIRST_WATCH_STEPS << spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1).min(20);
+    let mut watch =
+        FIRST_WATCH_STEPS << spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1).min(20);
     if spans.is_empty() {
         out.s.spans.push(MethodSpan { from: t0, method: "dop853", why: "the start".into(), stable_step: None });
     }
@@ -71,9 +72,7 @@ pub(super) fn integrate_auto(
             let limits = Limits {
                 first_step: first,
                 max_steps,
-                hand_back_below: stable_step
-                    .is_finite()
-                    .then_some((HAND_BACK_STEPS, IMPLICIT_STEP_COST * stable_step)),
+                hand_back_below: stable_step.is_finite().then_some((HAND_BACK_STEPS, IMPLICIT_STEP_COST * stable_step)),
                 ..base
             };
             let r = integrate_sdirk4(
@@ -91,9 +90,15 @@ pub(super) fn integrate_auto(
             (limits, r)
         } else {
             let limits = Limits { first_step: first, max_steps, stop_when_stiff: Some(watch), ..base };
-            let r = integrate(dynamics, Method::Dop853 { rtol, atol }, limits, t, t1, &y, |s: &crate::integrate::Step<'_>| {
-                tracked.on_step(s)
-            });
+            let r = integrate(
+                dynamics,
+                Method::Dop853 { rtol, atol },
+                limits,
+                t,
+                t1,
+                &y,
+                |s: &crate::integrate::Step<'_>| tracked.on_step(s),
+            );
             (limits, r)
         };
         let stats = result.map_err(|e| stopped(dynamics, settings, &limits, e))?;

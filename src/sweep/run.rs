@@ -190,8 +190,9 @@ impl Sweep {
             tracker.record(o);
             Ok(())
         };
-        let mut progress =
-            |_: &crate::simulate::Progress<'_, '_>| if stop.load(Ordering::Relaxed) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+        let mut progress = |_: &crate::simulate::Progress<'_, '_>| {
+            if stop.load(Ordering::Relaxed) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        };
         // A metric of a hinge-load column needs the locks' reactions in it, as the CSV has.
         let settings = RunSettings { hinge_loads: self.hinge_loads, ..s.settings };
         match simulate(&s.model, &s.initial, &settings, &mut sink, Some(&mut progress)) {

@@ -69,7 +69,7 @@ fn stiffness_is_reported() {
 /// implicit path restores them at every step end, and in every output row (interpolated or
 /// at a step end), by a rigid-body velocity correction; bound 1e-12 of their scales, well
 /// inside the 1e-9 (a row left uncorrected drifts by ~1e-9). Energy to its tolerance
-/// (1e-6: bound 1e-5) with `error_norm = "state"`.
+/// (1e-6: bound 1e-5).
 #[test]
 fn implicit_path_on_a_stiff_grid() {
     let p = Params {
@@ -80,13 +80,9 @@ fn implicit_path_on_a_stiff_grid() {
         ..Params::default()
     };
     let explicit = Scenario::from_toml(&grid(3, 3, &p), "explicit").unwrap();
-    // Every component in the error norm: the stiff vibrations resolved, as the energy bound
-    // needs (the default norm's energy balance is in tests/auto.rs).
-    let implicit = Scenario::from_toml(
-        &grid(3, 3, &p).replace("integrator = \"dop853\"", "integrator = \"sdirk4\"\nerror_norm = \"state\""),
-        "implicit",
-    )
-    .unwrap();
+    let implicit =
+        Scenario::from_toml(&grid(3, 3, &p).replace("integrator = \"dop853\"", "integrator = \"sdirk4\""), "implicit")
+            .unwrap();
     let (_, _, re) = run(&explicit);
     let (_, obs, ri) = run(&implicit);
     eprintln!("3x3 grid, 10 s: dop853 {} steps, sdirk4 {} steps", re.steps_accepted, ri.steps_accepted);

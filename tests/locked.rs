@@ -234,20 +234,27 @@ fn implicit_and_explicit_paths_agree_with_locks() {
                 ],
             )
         };
-        let (implicit, _, ri) = run(&variant("sdirk4", "1e-9"));
         let (explicit, _, _) = run(&variant("dop853", "1e-11"));
-        let angles: Vec<String> =
-            implicit.columns.iter().filter(|c| c.ends_with("_yaw") && c.starts_with('h')).cloned().collect();
-        let mut worst = 0.0f64;
-        for c in &angles {
-            let (a, b) = (implicit.col(c), explicit.col(c));
-            for (ra, rb) in implicit.rows.iter().zip(&explicit.rows) {
-                worst = worst.max((ra[a] - rb[b]).abs());
+        // SDIRK4, and auto (the default), at the same tolerance.
+        for method in ["sdirk4", "auto"] {
+            let (implicit, _, ri) = run(&variant(method, "1e-9"));
+            let angles: Vec<String> =
+                implicit.columns.iter().filter(|c| c.ends_with("_yaw") && c.starts_with('h')).cloned().collect();
+            let mut worst = 0.0f64;
+            for c in &angles {
+                let (a, b) = (implicit.col(c), explicit.col(c));
+                for (ra, rb) in implicit.rows.iter().zip(&explicit.rows) {
+                    worst = worst.max((ra[a] - rb[b]).abs());
+                }
             }
+            eprintln!(
+                "{file}: {method} ({} steps, {} method spans) against DOP853, hinge yaw: {worst:e} rad",
+                ri.steps_accepted,
+                ri.methods.len()
+            );
+            assert!(!angles.is_empty() && implicit.rows.len() == explicit.rows.len());
+            assert!(worst <= 1e-6, "{file} {method}: {worst:e} rad");
         }
-        eprintln!("{file}: SDIRK4 ({} steps) against DOP853, hinge yaw: {worst:e} rad", ri.steps_accepted);
-        assert!(!angles.is_empty() && implicit.rows.len() == explicit.rows.len());
-        assert!(worst <= 1e-6, "{file}: {worst:e} rad");
     }
 }
 

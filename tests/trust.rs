@@ -345,6 +345,18 @@ fn long_runs_say_so_early_and_report_progress_off_a_terminal() {
         .unwrap()
         .replace("a = { child_com = [1.0, 1.0, 0.0] }", "a = { child_com = [600000.0, 1.0, 0.0] }")
         .replace("duration = 20.0", "duration = 2.0");
+    // Left to its default step budget the run stops early (its pace cannot finish within
+    // it: tests/auto.rs); insisting on a budget lets it crawl, and it says so.
+    std::fs::write(dir.join("far-default.toml"), &text).unwrap();
+    let o = foldsim()
+        .current_dir(&dir)
+        .args(["run", "far-default.toml", "-q", "--csv", "far-default.csv"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("stopped early") && err.contains("of wall time"), "{err}");
+    let text = text.replacen("[run]\n", "[run]\nmax_steps = 100000000000\n", 1);
+    assert!(text.contains("max_steps"));
     std::fs::write(dir.join("far.toml"), text).unwrap();
     let mut child = foldsim()
         .current_dir(&dir)

@@ -354,7 +354,8 @@ impl FlasherOptions {
         let integrator = match self.integrator.as_str() {
             "dop853" => "dop853",
             "sdirk4" => "sdirk4",
-            other => return Err(format!("{} must be dop853 or sdirk4; got '{other}'", name("integrator"))),
+            "auto" => "auto",
+            other => return Err(format!("{} must be auto, dop853 or sdirk4; got '{other}'", name("integrator"))),
         };
         let run = RunText {
             duration: self.duration,

@@ -188,13 +188,12 @@ pub enum Control {
 
 /// How an implicit method weighs the error of each component in its step-size control and
 /// its Newton convergence test.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ErrorNorm {
     /// The components marked by [`OdeSystem::mark_rates`] (velocities) weighed by the step
     /// h: the error is the displacement a step makes, so tolerances bound positions and
     /// attitudes, and stiff vibrations whose rates the positions never show do not set
     /// the step.
-    #[default]
     Displacement,
     /// Every component as it is (Hairer's norm): the rates of stiff vibrations resolved to
     /// the tolerance too, at the cost of steps set by them.

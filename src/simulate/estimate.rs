@@ -57,16 +57,7 @@ impl Estimate {
     }
 }
 
-/// Seconds as a person reads them: `9 s`, `4.2 min`, `3.1 h`.
-pub fn human_seconds(s: f64) -> String {
-    if s < 100.0 {
-        format!("{s:.0} s")
-    } else if s < 6000.0 {
-        format!("{:.1} min", s / 60.0)
-    } else {
-        format!("{:.1} h", s / 3600.0)
-    }
-}
+pub use super::pace::human_seconds;
 
 /// Runs the scenario for at most `budget` of wall time and projects the whole run's time.
 pub fn estimate(model: &Model, initial: &InitialConditions, settings: &RunSettings, budget: Duration) -> Estimate {

@@ -9,6 +9,7 @@
 //! - [`run`]: [`simulate`], which streams rows to a [`Sink`];
 //! - [`stepper`]: a run advanced piece by piece ([`Stepper`]), for a controller outside;
 //! - [`stream`]: the step handler a run and a stepped run share;
+//! - [`stopped`]: why an integration stopped, in the user's terms;
 //! - [`switching`]: `integrator = "auto"`, DOP853 and SDIRK4 each where it pays;
 //! - [`pace`]: what the progress callback is told ([`Progress`]), and what holds a run's steps back;
 //! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
@@ -20,6 +21,7 @@ pub mod report;
 pub mod run;
 pub mod settings;
 pub mod stepper;
+pub mod stopped;
 pub mod stream;
 pub mod switching;
 

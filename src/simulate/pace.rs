@@ -61,3 +61,14 @@ impl Progress<'_, '_> {
         )
     }
 }
+
+/// Seconds as a person reads them: `9 s`, `4.2 min`, `3.1 h`.
+pub fn human_seconds(s: f64) -> String {
+    if s < 100.0 {
+        format!("{s:.0} s")
+    } else if s < 6000.0 {
+        format!("{:.1} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}

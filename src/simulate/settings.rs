@@ -67,8 +67,8 @@ pub struct RunSettings {
     /// Integration method.
     pub integrator: Integrator,
     /// How the implicit steps (SDIRK4, and `auto`'s implicit spans) weigh each component's
-    /// error (`run.error_norm`): the rates by the step (the default), or every component
-    /// as it is.
+    /// error (`run.error_norm`): the rates by the step (the default of `auto`), or every
+    /// component as it is (the default of `sdirk4`).
     pub error_norm: ErrorNorm,
     /// Solve for every lock from the start, rather than engaging each once it carries load
     /// (see [`crate::dynamics::Dynamics::disengage_locks`]): the same motion at a higher

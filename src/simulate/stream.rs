@@ -507,7 +507,7 @@ impl StreamOut<'_, '_, '_, '_> {
             message: format!(
                 "stopped early: at its pace the run cannot finish. None of the last {PACE_WINDOW} steps was longer than {longest:.3e} s, so the {left:.4} s left need at least {needed:.2e} more steps, beyond the run's budget of {:e} (run.max_steps; by default 10 × duration × the fastest hinge rate), about {} of wall time on this machine. What holds the steps back: {pace}",
                 self.s.step_budget as f64,
-                super::estimate::human_seconds(projected)
+                super::pace::human_seconds(projected)
             ),
         })
     }
@@ -523,5 +523,26 @@ impl StreamOut<'_, '_, '_, '_> {
             changed |= self.dynamics.restore_momentum(y, p0, h0) > 1e-15;
         }
         changed
+    }
+}
+
+/// The run's step handler with the state the integration goes on from after each step
+/// (corrected, or restarted), kept for a stepped run's next piece and for `auto`'s next
+/// method.
+pub(super) struct Tracked<'t, 'a, 'm, 'x, 'y> {
+    pub(super) out: &'t mut StreamOut<'a, 'm, 'x, 'y>,
+    pub(super) end: &'t mut Vec<f64>,
+}
+
+impl Tracked<'_, '_, '_, '_, '_> {
+    /// Handles an accepted step and records the state the integration goes on from.
+    pub(super) fn on_step(&mut self, step: &Step<'_>) -> Result<Control, SimError> {
+        let control = self.out.on_step(step)?;
+        match &control {
+            Control::Continue | Control::Stop => self.end.clone_from_slice(step.y),
+            Control::Restart { y, .. } => self.end.clone_from_slice(y),
+            Control::Truncate { .. } => {}
+        }
+        Ok(control)
     }
 }

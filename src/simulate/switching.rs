@@ -13,9 +13,9 @@
 //! ping-pong. Every switch is recorded for the report ([`MethodSpan`]).
 
 use super::report::{MethodSpan, SimError};
-use super::run::{Tracked, stopped};
 use super::settings::RunSettings;
-use super::stream::StreamOut;
+use super::stopped::stopped;
+use super::stream::{StreamOut, Tracked};
 use crate::dynamics::newton::GraphNewton;
 use crate::integrate::{Limits, Method, Stats, integrate, integrate_sdirk4};
 

@@ -315,8 +315,9 @@ pub struct FlasherArgs {
     /// Output step, s (default: duration / 1000).
     #[arg(long)]
     pub output_step: Option<f64>,
-    /// Integrator: dop853 or sdirk4 (stiff hinges on many panels).
-    #[arg(long, default_value = "dop853", value_parser = ["dop853", "sdirk4"])]
+    /// Integrator: dop853, sdirk4 (stiff hinges on many panels) or auto (DOP853, switching
+    /// to SDIRK4 where stiffness holds it back).
+    #[arg(long, default_value = "dop853", value_parser = ["dop853", "sdirk4", "auto"])]
     pub integrator: String,
     /// Print every hinge's stowed fold angle, not only the distinct ones.
     #[arg(long)]

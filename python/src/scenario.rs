@@ -278,6 +278,9 @@ pub(crate) fn report_dict<'py>(
     d.set_item("rhs_evaluations", report.rhs_evaluations)?;
     d.set_item("newton_iterations", report.newton_iterations)?;
     d.set_item("jacobians", report.jacobians)?;
+    d.set_item("refactorizations", report.refactorizations)?;
+    let methods: Vec<(f64, &str, &str)> = report.methods.iter().map(|m| (m.from, m.method, m.why.as_str())).collect();
+    d.set_item("methods", methods)?;
     d.set_item("rows", report.rows)?;
     d.set_item("momentum_drift", drift.momentum)?;
     d.set_item("angular_momentum_drift", drift.angular_momentum)?;

@@ -49,6 +49,14 @@ def test_bad_input_names_file_line_and_key():
         foldsim.load(ROOT / "examples" / "paper-1panel.toml").run()["nope"]
 
 
+def test_auto_reports_its_methods():
+    text = (ROOT / "examples" / "paper-1panel.toml").read_text().replace('integrator = "dop853"', "")
+    s = foldsim.from_toml(text, "auto.toml")
+    r = s.run(columns=["t"])
+    assert r.report["methods"] == [(0.0, "dop853", "the start")]
+    assert r.report["refactorizations"] == 0
+
+
 def test_the_gil_is_released_while_it_integrates():
     """Another Python thread keeps running during a run (it would stall with the GIL held)."""
     s = foldsim.load(ROOT / "examples" / "flasher-small.toml")

@@ -18,7 +18,7 @@ pub use super::stream::Sink;
 
 /// Runs a simulation from `ic`, streaming every output row to `sink`. `progress` is called
 /// after each accepted step with the time reached, the step and what holds it back
-/// ([`Progress`]); returning `ControlFlow::Break` stops the run with
+/// ([`super::Progress`]); returning `ControlFlow::Break` stops the run with
 /// [`SimError::Interrupted`] (how a Ctrl-C reaches it).
 pub fn simulate(
     model: &Model,

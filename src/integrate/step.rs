@@ -80,6 +80,23 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// Adds a later integration's counters to these (a run made of several integrations:
+    /// a stepped run's pieces, `auto`'s spans); the first stiffness time is kept, the step
+    /// sizes are the later one's.
+    pub fn absorb(&mut self, s: &Stats) {
+        self.accepted += s.accepted;
+        self.rejected += s.rejected;
+        self.newton_failures += s.newton_failures;
+        self.rhs_evaluations += s.rhs_evaluations;
+        self.newton_iterations += s.newton_iterations;
+        self.jacobians += s.jacobians;
+        self.refactorizations += s.refactorizations;
+        self.stiff_from = self.stiff_from.or(s.stiff_from);
+        self.next_step = s.next_step;
+        self.last_step = s.last_step;
+        self.stopped_at = None;
+    }
+
     /// Refactors `newton` for `h_gamma`, counting it.
     pub(crate) fn refactor(&mut self, newton: &mut dyn crate::integrate::NewtonMatrix, h_gamma: f64) -> bool {
         self.refactorizations += 1;

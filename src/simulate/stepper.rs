@@ -106,14 +106,7 @@ impl<'m> Stepper<'m> {
         let result = integrate_span(&mut out, &self.settings, self.t, t1, &self.y, self.next_step, &mut y);
         self.wall_seconds += start.elapsed().as_secs_f64();
         let (stats, differenced) = result?;
-        self.stats.accepted += stats.accepted;
-        self.stats.rejected += stats.rejected;
-        self.stats.newton_failures += stats.newton_failures;
-        self.stats.rhs_evaluations += stats.rhs_evaluations;
-        self.stats.newton_iterations += stats.newton_iterations;
-        self.stats.jacobians += stats.jacobians;
-        self.stats.refactorizations += stats.refactorizations;
-        self.stats.stiff_from = self.stats.stiff_from.or(stats.stiff_from);
+        self.stats.absorb(&stats);
         self.differenced_jacobians += differenced;
         if stats.next_step > 0.0 {
             self.next_step = Some(stats.next_step);

@@ -96,6 +96,19 @@ pub(super) struct StreamOut<'a, 'm, 'x, 'y> {
     pub(super) s: &'a mut RunState,
 }
 
+/// What the progress callback is told after `step` of a run in state `s`.
+fn progress_at<'p, 'm>(s: &RunState, dynamics: &'p Dynamics<'m>, step: &Step<'p>) -> Progress<'p, 'm> {
+    Progress {
+        t: step.t,
+        step: step.t - step.t_prev,
+        method: s.method,
+        dynamics,
+        y: step.y,
+        events: s.events.len() + s.lock_engagements.len(),
+        steps: s.steps,
+    }
+}
+
 /// Output times `k · step` below `end`, then `end`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct OutputTimes {
@@ -463,15 +476,7 @@ impl StreamOut<'_, '_, '_, '_> {
             }
         }
         let Some(callback) = self.progress.as_mut() else { return Ok(()) };
-        let progress = Progress {
-            t: step.t,
-            step: step.t - step.t_prev,
-            method: self.s.method,
-            dynamics: self.dynamics,
-            y: step.y,
-            events: self.s.events.len() + self.s.lock_engagements.len(),
-            steps: self.s.steps,
-        };
+        let progress = progress_at(self.s, self.dynamics, step);
         match callback(&progress) {
             ControlFlow::Break(()) => Err(SimError::Interrupted { t: step.t }),
             ControlFlow::Continue(()) => Ok(()),
@@ -492,16 +497,7 @@ impl StreamOut<'_, '_, '_, '_> {
         }
         let wall = self.s.started.elapsed().as_secs_f64();
         let projected = wall * (self.s.steps as f64 + needed) / self.s.steps as f64;
-        let pace = Progress {
-            t: step.t,
-            step: step.t - step.t_prev,
-            method: self.s.method,
-            dynamics: self.dynamics,
-            y: step.y,
-            events: self.s.events.len() + self.s.lock_engagements.len(),
-            steps: self.s.steps,
-        }
-        .pace();
+        let pace = progress_at(self.s, self.dynamics, step).pace();
         Err(SimError::Integrator {
             t: step.t,
             message: format!(

@@ -52,7 +52,6 @@ pub(super) fn integrate_auto(
     let mut total = Stats::default();
     let (mut t, mut first) = (t0, first_step);
     let mut y = y0.to_vec();
-    end.clone_from_slice(y0);
     // Go on in the method of the span before (a stepped run's next piece).
     let spans = &out.s.spans;
     let mut implicit = spans.last().is_some_and(|s| s.method == "sdirk4");
@@ -102,7 +101,7 @@ pub(super) fn integrate_auto(
             (limits, r)
         };
         let stats = result.map_err(|e| stopped(dynamics, settings, &limits, e))?;
-        add(&mut total, &stats);
+        total.absorb(&stats);
         let Some(at) = stats.stopped_at else { break };
         t = at;
         y.clone_from(end);
@@ -132,19 +131,4 @@ pub(super) fn integrate_auto(
     }
     total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == "sdirk4").map(|s| s.from));
     Ok((total, newton.jacobian_counts().1))
-}
-
-/// Adds one span's counters to the run's.
-fn add(total: &mut Stats, s: &Stats) {
-    total.accepted += s.accepted;
-    total.rejected += s.rejected;
-    total.newton_failures += s.newton_failures;
-    total.rhs_evaluations += s.rhs_evaluations;
-    total.newton_iterations += s.newton_iterations;
-    total.jacobians += s.jacobians;
-    total.refactorizations += s.refactorizations;
-    total.stiff_from = total.stiff_from.or(s.stiff_from);
-    total.next_step = s.next_step;
-    total.last_step = s.last_step;
-    total.stopped_at = None;
 }

@@ -3,7 +3,7 @@
 //! conditions given in the paper's relative coordinates (docs/model.md §3).
 
 use crate::law::HingeState;
-use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, real};
+use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, cross, mat_mul_const, mat_tr_mul, mat_tr_vec, mat_vec_const};
 use crate::model::{Hinge, Model};
 use crate::state::{BodyMotion, State, state_from_motions};
 use nalgebra::{Matrix3, Vector3};
@@ -39,27 +39,111 @@ pub struct HingeTranslation<T: nalgebra::Scalar = f64> {
     pub delta_rate_in_a0: Vector3<T>,
 }
 
+/// What a hinge's kinematics need from its parent alone: the parent's own quantities and
+/// those of the A0 frame fixed in it (N components). The exact Jacobian forms these in the
+/// parent's 13 dual lanes only (`crate::dynamics::jacobian`).
+#[derive(Clone, Copy, Debug)]
+pub struct ParentSide<T: nalgebra::Scalar = f64> {
+    /// The parent's CoM, m.
+    pub r_in_n: Vector3<T>,
+    /// The parent's `ω`, rad/s.
+    pub omega_in_n: Vector3<T>,
+    /// `[N A0]`.
+    pub dcm_n_a0: Matrix3<T>,
+    /// A0's origin from the parent CoM, m.
+    pub arm_a0_in_n: Vector3<T>,
+    /// `Ṙ_A0`, the velocity of A0's origin, m/s.
+    pub v_a0_in_n: Vector3<T>,
+}
+
+/// What a hinge's kinematics need from its child alone (see [`ParentSide`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ChildSide<T: nalgebra::Scalar = f64> {
+    /// The child's `ω`, rad/s.
+    pub omega_in_n: Vector3<T>,
+    /// `[N A]`.
+    pub dcm_n_a: Matrix3<T>,
+    /// A's origin from the child CoM, m.
+    pub arm_a_in_n: Vector3<T>,
+    /// `R_A`, A's origin, m.
+    pub r_a_in_n: Vector3<T>,
+    /// `Ṙ_A`, the velocity of A's origin, m/s.
+    pub v_a_in_n: Vector3<T>,
+}
+
+impl<T: Real> ParentSide<T> {
+    /// Hinge `h`'s parent side from the parent's motion.
+    #[inline]
+    pub fn new(h: &Hinge, parent: &BodyMotion<T>) -> Self {
+        let arm_a0 = mat_vec_const(&parent.dcm_n_b, &h.r_a0_in_parent);
+        Self {
+            r_in_n: parent.r_in_n,
+            omega_in_n: parent.omega_in_n,
+            dcm_n_a0: mat_mul_const(&parent.dcm_n_b, &h.dcm_parent_a0),
+            arm_a0_in_n: arm_a0,
+            v_a0_in_n: parent.v_in_n + cross(&parent.omega_in_n, &arm_a0),
+        }
+    }
+
+    /// Every quantity mapped by `f` (into the lanes of the whole hinge, for the Jacobian).
+    pub fn map<U: Real>(&self, f: impl Fn(T) -> U + Copy) -> ParentSide<U> {
+        ParentSide {
+            r_in_n: self.r_in_n.map(f),
+            omega_in_n: self.omega_in_n.map(f),
+            dcm_n_a0: self.dcm_n_a0.map(f),
+            arm_a0_in_n: self.arm_a0_in_n.map(f),
+            v_a0_in_n: self.v_a0_in_n.map(f),
+        }
+    }
+}
+
+impl<T: Real> ChildSide<T> {
+    /// Hinge `h`'s child side from the child's motion.
+    #[inline]
+    pub fn new(h: &Hinge, child: &BodyMotion<T>) -> Self {
+        let arm_child = mat_vec_const(&child.dcm_n_b, &h.r_a_in_child);
+        Self {
+            omega_in_n: child.omega_in_n,
+            dcm_n_a: mat_mul_const(&child.dcm_n_b, &h.dcm_child_a),
+            arm_a_in_n: arm_child,
+            r_a_in_n: child.r_in_n + arm_child,
+            v_a_in_n: child.v_in_n + cross(&child.omega_in_n, &arm_child),
+        }
+    }
+
+    /// Every quantity mapped by `f` (see [`ParentSide::map`]).
+    pub fn map<U: Real>(&self, f: impl Fn(T) -> U + Copy) -> ChildSide<U> {
+        ChildSide {
+            omega_in_n: self.omega_in_n.map(f),
+            dcm_n_a: self.dcm_n_a.map(f),
+            arm_a_in_n: self.arm_a_in_n.map(f),
+            r_a_in_n: self.r_a_in_n.map(f),
+            v_a_in_n: self.v_a_in_n.map(f),
+        }
+    }
+}
+
+/// The translational part of a hinge's relative state from its two sides (docs/model.md §2).
+#[inline]
+fn translation_of_sides<T: Real>(p: &ParentSide<T>, c: &ChildSide<T>) -> HingeTranslation<T> {
+    let arm_parent = c.r_a_in_n - p.r_in_n;
+    let delta_n = arm_parent - p.arm_a0_in_n;
+    // δ̇ = [A0 N](Ṙ_A − Ṙ_A0) − ω_p × δ, the rate of the A0 components.
+    let rate_n = c.v_a_in_n - p.v_a0_in_n - cross(&p.omega_in_n, &delta_n);
+    HingeTranslation {
+        dcm_n_a0: p.dcm_n_a0,
+        arm_parent_in_n: arm_parent,
+        arm_child_in_n: c.arm_a_in_n,
+        delta_in_a0: mat_tr_vec(&p.dcm_n_a0, &delta_n),
+        delta_rate_in_a0: mat_tr_vec(&p.dcm_n_a0, &rate_n),
+    }
+}
+
 /// The translational part of hinge `h`'s relative state from the motions of its parent and
 /// child (docs/model.md §2): what [`hinge_kinematics`] computes before the rotation.
 #[inline]
 pub fn hinge_translation<T: Real>(h: &Hinge, parent: &BodyMotion<T>, child: &BodyMotion<T>) -> HingeTranslation<T> {
-    let dcm_n_a0 = parent.dcm_n_b * lift::<T>(&h.dcm_parent_a0);
-    let arm_a0 = parent.dcm_n_b * h.r_a0_in_parent.map(real::<T>);
-    let arm_child = child.dcm_n_b * h.r_a_in_child.map(real::<T>);
-    let r_a = child.r_in_n + arm_child;
-    let arm_parent = r_a - parent.r_in_n;
-    let delta_n = arm_parent - arm_a0;
-    let dcm_a0_n = dcm_n_a0.transpose();
-    // δ̇ = [A0 N](Ṙ_A − Ṙ_A0) − ω_p × δ, the rate of the A0 components.
-    let v_a0 = parent.v_in_n + parent.omega_in_n.cross(&arm_a0);
-    let v_a = child.v_in_n + child.omega_in_n.cross(&arm_child);
-    HingeTranslation {
-        dcm_n_a0,
-        arm_parent_in_n: arm_parent,
-        arm_child_in_n: arm_child,
-        delta_in_a0: dcm_a0_n * delta_n,
-        delta_rate_in_a0: dcm_a0_n * (v_a - v_a0 - parent.omega_in_n.cross(&delta_n)),
-    }
+    translation_of_sides(&ParentSide::new(h, parent), &ChildSide::new(h, child))
 }
 
 /// Relative state of hinge `h` from the motions of its parent and child (docs/model.md §2).
@@ -73,17 +157,23 @@ pub fn hinge_kinematics<T: Real>(
     child: &BodyMotion<T>,
     theta_ref: &Euler321,
 ) -> HingeKinematics<T> {
+    kinematics_of_sides(&ParentSide::new(h, parent), &ChildSide::new(h, child), theta_ref)
+}
+
+/// [`hinge_kinematics`] from the hinge's two sides.
+#[inline]
+pub fn kinematics_of_sides<T: Real>(p: &ParentSide<T>, c: &ChildSide<T>, theta_ref: &Euler321) -> HingeKinematics<T> {
     let HingeTranslation {
         dcm_n_a0,
         arm_parent_in_n: arm_parent,
         arm_child_in_n: arm_child,
         delta_in_a0,
         delta_rate_in_a0,
-    } = hinge_translation(h, parent, child);
-    let dcm_n_a = child.dcm_n_b * lift::<T>(&h.dcm_child_a);
-    let dcm_a_a0 = dcm_n_a.transpose() * dcm_n_a0;
+    } = translation_of_sides(p, c);
+    let dcm_n_a = c.dcm_n_a;
+    let dcm_a_a0 = mat_tr_mul(&dcm_n_a, &dcm_n_a0);
     let theta = Euler321::from_dcm(&dcm_a_a0).unwrapped_near(theta_ref);
-    let omega_rel_in_a = dcm_n_a.transpose() * (child.omega_in_n - parent.omega_in_n);
+    let omega_rel_in_a = mat_tr_vec(&dcm_n_a, &(c.omega_in_n - p.omega_in_n));
     HingeKinematics {
         state: HingeState {
             delta_in_a0,

@@ -4,7 +4,7 @@
 //! `R_i` (m, N components, 3), `q_n_i` (unit quaternion w, x, y, z mapping body to N
 //! components, 4), `Ṙ_i` (m/s, N components, 3), `ω_{i/N}` (rad/s, body components, 3).
 
-use crate::math::{Mat3, Real, Vec3, dcm_from_quat, quat_from_dcm};
+use crate::math::{Mat3, Real, Vec3, dcm_from_quat, mat_vec, quat_from_dcm};
 use crate::model::Model;
 use nalgebra::{Matrix3, Vector3};
 
@@ -59,7 +59,7 @@ impl<T: Real> BodyMotion<T> {
             r_in_n: Vector3::new(s[POS], s[POS + 1], s[POS + 2]),
             dcm_n_b,
             v_in_n: Vector3::new(s[VEL], s[VEL + 1], s[VEL + 2]),
-            omega_in_n: dcm_n_b * omega_in_b,
+            omega_in_n: mat_vec(&dcm_n_b, &omega_in_b),
         }
     }
 

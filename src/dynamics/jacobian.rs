@@ -18,9 +18,9 @@
 
 use super::Dynamics;
 use super::locks::{Lock, hinge_rows};
-use crate::kinematics::hinge_kinematics;
+use crate::kinematics::{ChildSide, ParentSide, hinge_kinematics, kinematics_of_sides};
 use crate::law::JacobianDual as D;
-use crate::math::{lift, re, real};
+use crate::math::{const_mat_vec, cross, lift, mat_tr_vec, mat_vec, re, real};
 use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, VEL};
 use nalgebra::{Const, SMatrix, U1, Vector3};
 
@@ -182,9 +182,40 @@ fn lanes(x: &D) -> SMatrix<f64, 26, 1> {
     x.eps.unwrap_generic(Const::<26>, U1)
 }
 
+/// Dual numbers of one body's 13 state numbers.
+type D13 = num_dual::DualSVec64<13>;
+
+/// One body's 13 state numbers seeded in its own 13 lanes.
+fn seeded13(s: &[f64]) -> [D13; B] {
+    std::array::from_fn(|k| D13::from_re(s[k]).derivative(k))
+}
+
+/// A one-body dual number in a hinge's (or pair's) 26 lanes, its 13 at `first..first + 13`.
+fn widen(x: D13, first: usize) -> D {
+    let mut eps = SMatrix::<f64, 26, 1>::zeros();
+    if let Some(g) = x.eps.0 {
+        eps.fixed_rows_mut::<13>(first).copy_from(&g);
+    }
+    D::new(x.re, num_dual::Derivative::some(eps))
+}
+
 /// One body's 13 state numbers as dual numbers seeded at lanes `first..first + 13`.
 fn seeded(s: &[f64], first: usize) -> [D; B] {
     std::array::from_fn(|k| D::from_re(s[k]).derivative(first + k))
+}
+
+/// A body's six acceleration rows (R̈ in N, ω̇ in body components) from a force and torque in N
+/// components: `R̈ = F / m`, `ω̇ = I⁻¹ [b N] τ` with `[b N]` held at `dcm_n_b` (its attitude
+/// derivative is taken per body, on the total torque).
+fn accel_rows(
+    bd: &crate::model::Body,
+    dcm_n_b: &nalgebra::Matrix3<f64>,
+    force: &Vector3<D>,
+    torque: &Vector3<D>,
+) -> [D; 6] {
+    let inv_m = 1.0 / bd.mass;
+    let alpha = const_mat_vec(&(bd.inertia_inv_in_body * dcm_n_b.transpose()), torque);
+    [force.x * inv_m, force.y * inv_m, force.z * inv_m, alpha.x, alpha.y, alpha.z]
 }
 
 /// Splits the lanes of a body's six acceleration rows (R̈ then ω̇) into the blocks of the
@@ -217,27 +248,29 @@ impl ExactJacobian for Dynamics<'_> {
         let mut torque_in_n = vec![Vector3::<f64>::zeros(); nb];
         let mut hinge_blocks = Vec::with_capacity(2 * model.hinges.len());
         let t = self.time.get();
+        // Each body's motion in its own 13 lanes, once; each hinge's one-body quantities in
+        // those lanes too, moved to the hinge's 26 (parent 0..13, child 13..26) only where
+        // the two bodies meet: half the lanes for half the work (see `ParentSide`).
+        let own: Vec<BodyMotion<D13>> =
+            (0..nb).map(|i| BodyMotion::<D13>::from_body_state(&seeded13(body(i)))).collect();
         for (i, h) in model.hinges.iter().enumerate() {
-            let p = BodyMotion::<D>::from_body_state(&seeded(body(h.parent), 0));
-            let c = BodyMotion::<D>::from_body_state(&seeded(body(h.child), B));
-            let k = hinge_kinematics(h, &p, &c, &refs[i]);
+            let p = ParentSide::new(h, &own[h.parent]).map(|x| widen(x, 0));
+            let c = ChildSide::new(h, &own[h.child]).map(|x| widen(x, B));
+            let k = kinematics_of_sides(&p, &c, &refs[i]);
             let Some(mut w) = h.law.wrench_dual(&k.state, &memories[i]) else { return false };
             if let Some((motor, _)) = self.motor_wrench(i, &k.state, t) {
                 w.force_in_a0 += motor.force_in_a0;
                 w.torque_in_a += motor.torque_in_a;
             }
-            let f_n = k.dcm_n_a0 * w.force_in_a0;
-            let tau_n = k.dcm_n_a * w.torque_in_a;
-            let on_parent = (f_n, k.arm_parent_in_n.cross(&f_n) + tau_n);
-            let on_child = (-f_n, -(k.arm_child_in_n.cross(&f_n) + tau_n));
+            let f_n = mat_vec(&k.dcm_n_a0, &w.force_in_a0);
+            let tau_n = mat_vec(&k.dcm_n_a, &w.torque_in_a);
+            let on_parent = (f_n, cross(&k.arm_parent_in_n, &f_n) + tau_n);
+            let on_child = (-f_n, -(cross(&k.arm_child_in_n, &f_n) + tau_n));
             for (b, (force, torque)) in [(h.parent, on_parent), (h.child, on_child)] {
                 torque_in_n[b] += torque.map(re);
-                let bd = &model.bodies[b];
                 // R̈ = F / m; ω̇ = I⁻¹ ([b N] τ − ω × Iω), here the τ part with [b N] held
                 // (its attitude derivative is taken per body below, on the total torque).
-                let accel = force / real::<D>(bd.mass);
-                let alpha = lift::<D>(&(bd.inertia_inv_in_body * motions[b].dcm_n_b.transpose())) * torque;
-                let rows = [accel.x, accel.y, accel.z, alpha.x, alpha.y, alpha.z];
+                let rows = accel_rows(&model.bodies[b], &motions[b].dcm_n_b, &force, &torque);
                 let [(px, pv), (cx, cv)] = split(&rows);
                 hinge_blocks.push((b, h.parent, px, pv));
                 hinge_blocks.push((b, h.child, cx, cv));
@@ -258,10 +291,7 @@ impl ExactJacobian for Dynamics<'_> {
                 let on_b = (-force_in_n, -(sum.dcm_n_b * sum.moment_about_b_in_b));
                 for (body_index, (force, torque)) in [(a, on_a), (b, on_b)] {
                     torque_in_n[body_index] += torque.map(re);
-                    let bd = &model.bodies[body_index];
-                    let accel = force / real::<D>(bd.mass);
-                    let alpha = lift::<D>(&(bd.inertia_inv_in_body * motions[body_index].dcm_n_b.transpose())) * torque;
-                    let rows = [accel.x, accel.y, accel.z, alpha.x, alpha.y, alpha.z];
+                    let rows = accel_rows(&model.bodies[body_index], &motions[body_index].dcm_n_b, &force, &torque);
                     let [(ax, av), (bx, bv)] = split(&rows);
                     hinge_blocks.push((body_index, a, ax, av));
                     hinge_blocks.push((body_index, b, bx, bv));
@@ -295,10 +325,7 @@ impl ExactJacobian for Dynamics<'_> {
         // hub's control depends on the hub's attitude and rate (the wheel momenta held).
         let mut self_block = |b: usize, force: Vector3<D>, torque: Vector3<D>| {
             torque_in_n[b] += torque.map(re);
-            let bd = &model.bodies[b];
-            let accel = force / real::<D>(bd.mass);
-            let alpha = lift::<D>(&(bd.inertia_inv_in_body * motions[b].dcm_n_b.transpose())) * torque;
-            let rows = [accel.x, accel.y, accel.z, alpha.x, alpha.y, alpha.z];
+            let rows = accel_rows(&model.bodies[b], &motions[b].dcm_n_b, &force, &torque);
             let [(dx, dv), _] = split(&rows);
             hinge_blocks.push((b, b, dx, dv));
         };
@@ -318,15 +345,13 @@ impl ExactJacobian for Dynamics<'_> {
         }
         // Per body: ω̇ = I⁻¹ ([b N](q) τ_total − ω × Iω) in its own attitude and rate.
         for (i, bd) in model.bodies.iter().enumerate() {
-            let s = seeded(body(i), 0);
-            let m = BodyMotion::<D>::from_body_state(&s);
+            let s = seeded13(body(i));
             let omega_b = Vector3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
-            let tau_b = m.dcm_n_b.transpose() * torque_in_n[i].map(real::<D>);
-            let i_omega = lift::<D>(&bd.inertia_in_body) * omega_b;
-            let alpha = lift::<D>(&bd.inertia_inv_in_body) * (tau_b - omega_b.cross(&i_omega));
-            let zero = D::from_re(0.0);
-            let rows = [zero, zero, zero, alpha.x, alpha.y, alpha.z];
-            let [(dx, dv), _] = split(&rows);
+            let tau_b = mat_tr_vec(&own[i].dcm_n_b, &torque_in_n[i].map(real::<D13>));
+            let i_omega = const_mat_vec(&bd.inertia_in_body, &omega_b);
+            let alpha = const_mat_vec(&bd.inertia_inv_in_body, &(tau_b - cross(&omega_b, &i_omega)));
+            let rows = [alpha.x, alpha.y, alpha.z].map(|x| widen(x, 0));
+            let [(dx, dv), _] = split(&[D::from_re(0.0), D::from_re(0.0), D::from_re(0.0), rows[0], rows[1], rows[2]]);
             add(i, i, &dx, &dv);
         }
         true

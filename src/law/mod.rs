@@ -12,7 +12,9 @@
 pub mod directional;
 pub mod table;
 
-use crate::math::{Euler321, EulerTrig, Mat3, Real, Vec3, lift, rotation_vector, rotation_vector_rate_matrix_inverse};
+use crate::math::{
+    Euler321, EulerTrig, Mat3, Real, Vec3, const_mat_vec, rotation_vector, rotation_vector_rate_matrix_inverse,
+};
 use nalgebra::{Matrix3, Vector3};
 use std::fmt::Debug;
 
@@ -263,16 +265,16 @@ impl LinearGains {
     }
 
     fn damping_force<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
-        lift::<T>(&self.c_f) * state.delta_rate_in_a0
+        const_mat_vec(&self.c_f, &state.delta_rate_in_a0)
     }
 
     fn damping_torque<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
-        lift::<T>(&self.c_theta) * state.omega_rel_in_a
+        const_mat_vec(&self.c_theta, &state.omega_rel_in_a)
     }
 
     /// `K_F δ + C_F δ̇`, the force of laws 1, 2 and the rotation-vector law.
     fn force<T: Real>(&self, state: &HingeState<T>) -> Vector3<T> {
-        lift::<T>(&self.k_f) * state.delta_in_a0 + self.damping_force(state)
+        const_mat_vec(&self.k_f, &state.delta_in_a0) + self.damping_force(state)
     }
 
     /// Gershgorin bounds per direction: row sums of |K| and |C| (the translations from
@@ -320,7 +322,7 @@ impl PaperLinear {
         let g = &self.gains;
         HingeWrench {
             force_in_a0: g.force(state),
-            torque_in_a: lift::<T>(&g.k_theta) * state.theta.phi() + g.damping_torque(state),
+            torque_in_a: const_mat_vec(&g.k_theta, &state.theta.phi()) + g.damping_torque(state),
         }
     }
 }
@@ -365,7 +367,7 @@ pub struct EulerPotential {
 impl EulerPotential {
     fn wrench_t<T: Real>(&self, state: &HingeState<T>) -> HingeWrench<T> {
         let g = &self.gains;
-        let k_phi = lift::<T>(&g.k_theta) * state.theta.phi();
+        let k_phi = const_mat_vec(&g.k_theta, &state.theta.phi());
         // ∂V/∂θ = (∂φ/∂θ)ᵀ K_θ φ; φ reverses θ, so the gradient is K_θ φ reversed.
         let dv_dtheta = Vector3::new(k_phi.z, k_phi.y, k_phi.x);
         HingeWrench {
@@ -415,7 +417,7 @@ impl RotationVectorLinear {
     fn wrench_t<T: Real>(&self, state: &HingeState<T>) -> HingeWrench<T> {
         let g = &self.gains;
         let r = rotation_vector(&state.dcm_a_a0);
-        let torque = rotation_vector_rate_matrix_inverse(&r).transpose() * (lift::<T>(&g.k_theta) * r);
+        let torque = rotation_vector_rate_matrix_inverse(&r).transpose() * (const_mat_vec(&g.k_theta, &r));
         HingeWrench { force_in_a0: g.force(state), torque_in_a: torque + g.damping_torque(state) }
     }
 }

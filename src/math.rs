@@ -414,6 +414,82 @@ pub fn quat_rate(q: &[f64], omega_in_body: &Vec3) -> [f64; 4] {
     ]
 }
 
+// Small products written out. nalgebra's `*` on 3×3 matrices goes through its general
+// gemm/gemv, which for a non-f64 scalar clones every operand and multiplies by α = 1 and adds
+// β·y with β = 0: for the 26-lane dual numbers of the exact Jacobian that was 40 % of the
+// flasher example's run in copies alone (perf, `cargo bench --bench flasher`). These sum in
+// nalgebra's order (column k of `a` times `b[k]`, k = 0, 1, 2, left to right), so f64 results
+// are the same to the bit.
+
+/// `a b`.
+#[inline]
+pub fn mat_mul<T: Real>(a: &Matrix3<T>, b: &Matrix3<T>) -> Matrix3<T> {
+    Matrix3::from_fn(|i, j| a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)])
+}
+
+/// `aᵀ b`, without forming `aᵀ`.
+#[inline]
+pub fn mat_tr_mul<T: Real>(a: &Matrix3<T>, b: &Matrix3<T>) -> Matrix3<T> {
+    Matrix3::from_fn(|i, j| a[(0, i)] * b[(0, j)] + a[(1, i)] * b[(1, j)] + a[(2, i)] * b[(2, j)])
+}
+
+/// `a b` with `b` a constant (f64) matrix.
+#[inline]
+pub fn mat_mul_const<T: Real>(a: &Matrix3<T>, b: &Mat3) -> Matrix3<T> {
+    Matrix3::from_fn(|i, j| dot_const([a[(i, 0)], a[(i, 1)], a[(i, 2)]], [b[(0, j)], b[(1, j)], b[(2, j)]]))
+}
+
+/// `x · c` with `c` constant, leaving out the terms whose constant is exactly zero (frames at
+/// right angles, diagonal gains: for dual numbers each term is a product over every lane).
+/// Left to right as nalgebra sums; the value differs from the full sum at most in the sign of
+/// a zero.
+#[inline]
+fn dot_const<T: Real>(x: [T; 3], c: [f64; 3]) -> T {
+    // f64 sums every term: the test for zero costs more than a product (this folds away when
+    // monomorphized).
+    if std::any::TypeId::of::<T>() == std::any::TypeId::of::<f64>() {
+        return x[0] * real::<T>(c[0]) + x[1] * real::<T>(c[1]) + x[2] * real::<T>(c[2]);
+    }
+    let mut sum: Option<T> = None;
+    for (x, c) in x.into_iter().zip(c) {
+        if c != 0.0 {
+            let term = x * real::<T>(c);
+            sum = Some(sum.map_or(term, |s| s + term));
+        }
+    }
+    sum.unwrap_or_else(T::zero)
+}
+
+/// `a v`.
+#[inline]
+pub fn mat_vec<T: Real>(a: &Matrix3<T>, v: &Vector3<T>) -> Vector3<T> {
+    Vector3::from_fn(|i, _| a[(i, 0)] * v[0] + a[(i, 1)] * v[1] + a[(i, 2)] * v[2])
+}
+
+/// `aᵀ v`, without forming `aᵀ`.
+#[inline]
+pub fn mat_tr_vec<T: Real>(a: &Matrix3<T>, v: &Vector3<T>) -> Vector3<T> {
+    Vector3::from_fn(|i, _| a[(0, i)] * v[0] + a[(1, i)] * v[1] + a[(2, i)] * v[2])
+}
+
+/// `a v` with `v` a constant (f64) vector.
+#[inline]
+pub fn mat_vec_const<T: Real>(a: &Matrix3<T>, v: &Vec3) -> Vector3<T> {
+    Vector3::from_fn(|i, _| dot_const([a[(i, 0)], a[(i, 1)], a[(i, 2)]], [v[0], v[1], v[2]]))
+}
+
+/// `a v` with `a` a constant (f64) matrix.
+#[inline]
+pub fn const_mat_vec<T: Real>(a: &Mat3, v: &Vector3<T>) -> Vector3<T> {
+    Vector3::from_fn(|i, _| dot_const([v[0], v[1], v[2]], [a[(i, 0)], a[(i, 1)], a[(i, 2)]]))
+}
+
+/// `a × b`, in nalgebra's order of operations.
+#[inline]
+pub fn cross<T: Real>(a: &Vector3<T>, b: &Vector3<T>) -> Vector3<T> {
+    Vector3::new(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -555,80 +631,4 @@ mod tests {
             assert!((quat_angle(&q_of(Vec3::x(), phi)) - short.abs()).abs() < 1e-14);
         }
     }
-}
-
-// Small products written out. nalgebra's `*` on 3×3 matrices goes through its general
-// gemm/gemv, which for a non-f64 scalar clones every operand and multiplies by α = 1 and adds
-// β·y with β = 0: for the 26-lane dual numbers of the exact Jacobian that was 40 % of the
-// flasher example's run in copies alone (perf, `cargo bench --bench flasher`). These sum in
-// nalgebra's order (column k of `a` times `b[k]`, k = 0, 1, 2, left to right), so f64 results
-// are the same to the bit.
-
-/// `a b`.
-#[inline]
-pub fn mat_mul<T: Real>(a: &Matrix3<T>, b: &Matrix3<T>) -> Matrix3<T> {
-    Matrix3::from_fn(|i, j| a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)])
-}
-
-/// `aᵀ b`, without forming `aᵀ`.
-#[inline]
-pub fn mat_tr_mul<T: Real>(a: &Matrix3<T>, b: &Matrix3<T>) -> Matrix3<T> {
-    Matrix3::from_fn(|i, j| a[(0, i)] * b[(0, j)] + a[(1, i)] * b[(1, j)] + a[(2, i)] * b[(2, j)])
-}
-
-/// `a b` with `b` a constant (f64) matrix.
-#[inline]
-pub fn mat_mul_const<T: Real>(a: &Matrix3<T>, b: &Mat3) -> Matrix3<T> {
-    Matrix3::from_fn(|i, j| dot_const([a[(i, 0)], a[(i, 1)], a[(i, 2)]], [b[(0, j)], b[(1, j)], b[(2, j)]]))
-}
-
-/// `x · c` with `c` constant, leaving out the terms whose constant is exactly zero (frames at
-/// right angles, diagonal gains: for dual numbers each term is a product over every lane).
-/// Left to right as nalgebra sums; the value differs from the full sum at most in the sign of
-/// a zero.
-#[inline]
-fn dot_const<T: Real>(x: [T; 3], c: [f64; 3]) -> T {
-    // f64 sums every term: the test for zero costs more than a product (this folds away when
-    // monomorphized).
-    if std::any::TypeId::of::<T>() == std::any::TypeId::of::<f64>() {
-        return x[0] * real::<T>(c[0]) + x[1] * real::<T>(c[1]) + x[2] * real::<T>(c[2]);
-    }
-    let mut sum: Option<T> = None;
-    for (x, c) in x.into_iter().zip(c) {
-        if c != 0.0 {
-            let term = x * real::<T>(c);
-            sum = Some(sum.map_or(term, |s| s + term));
-        }
-    }
-    sum.unwrap_or_else(T::zero)
-}
-
-/// `a v`.
-#[inline]
-pub fn mat_vec<T: Real>(a: &Matrix3<T>, v: &Vector3<T>) -> Vector3<T> {
-    Vector3::from_fn(|i, _| a[(i, 0)] * v[0] + a[(i, 1)] * v[1] + a[(i, 2)] * v[2])
-}
-
-/// `aᵀ v`, without forming `aᵀ`.
-#[inline]
-pub fn mat_tr_vec<T: Real>(a: &Matrix3<T>, v: &Vector3<T>) -> Vector3<T> {
-    Vector3::from_fn(|i, _| a[(0, i)] * v[0] + a[(1, i)] * v[1] + a[(2, i)] * v[2])
-}
-
-/// `a v` with `v` a constant (f64) vector.
-#[inline]
-pub fn mat_vec_const<T: Real>(a: &Matrix3<T>, v: &Vec3) -> Vector3<T> {
-    Vector3::from_fn(|i, _| dot_const([a[(i, 0)], a[(i, 1)], a[(i, 2)]], [v[0], v[1], v[2]]))
-}
-
-/// `a v` with `a` a constant (f64) matrix.
-#[inline]
-pub fn const_mat_vec<T: Real>(a: &Mat3, v: &Vector3<T>) -> Vector3<T> {
-    Vector3::from_fn(|i, _| dot_const([v[0], v[1], v[2]], [a[(i, 0)], a[(i, 1)], a[(i, 2)]]))
-}
-
-/// `a × b`, in nalgebra's order of operations.
-#[inline]
-pub fn cross<T: Real>(a: &Vector3<T>, b: &Vector3<T>) -> Vector3<T> {
-    Vector3::new(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 }

@@ -197,6 +197,32 @@ fn bad_times() {
     );
     expect_error(|t| t.replace("rtol = 1e-9", "rtol = -1e-9"), Some("rtol"), &["run.rtol"]);
     expect_error(|t| t.replace("rtol = 1e-9\n", ""), Some("[run]"), &["run.rtol"]);
+    // Generalized-α: a step is needed, ρ∞ is a spectral radius, and only it takes one.
+    let ga = |extra: &'static str| {
+        move |t: &str| t.replace("integrator = \"dop853\"", &format!("integrator = \"generalized-alpha\"\n{extra}"))
+    };
+    expect_error(ga(""), Some("[run]"), &["run.step", "generalized-alpha"]);
+    expect_error(ga("step = 0.01\nrho_inf = 1.5"), Some("rho_inf = 1.5"), &["run.rho_inf", "0", "1"]);
+    expect_error(
+        |t| t.replace("integrator = \"dop853\"", "integrator = \"dop853\"\nrho_inf = 0.9"),
+        Some("rho_inf = 0.9"),
+        &["run.rho_inf", "dop853"],
+    );
+    expect_error(
+        |t| {
+            t.replace(
+                "integrator = \"dop853\"\nrtol = 1e-9\natol = 1e-9",
+                "integrator = \"rk4\"\nstep = 0.01\nrho_inf = 0.9",
+            )
+        },
+        Some("rho_inf = 0.9"),
+        &["run.rho_inf", "rk4"],
+    );
+    expect_error(
+        ga("step = 0.01\nerror_norm = \"state\""),
+        Some("error_norm"),
+        &["run.error_norm", "generalized-alpha"],
+    );
 }
 
 #[test]

@@ -149,7 +149,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         std::mem::swap(y, &mut w.y_new);
         w.k.swap(0, 4);
         let s = Step { t_prev: t, t: t_next, y, kind: DenseKind::Hermite, cont: &w.cont };
-        match on_step(&s).map_err(OdeError::Callback)? {
+        match on_step(&s).map_err(OdeError::Callback)?.restart_if_corrected(t_next) {
             Control::Continue => t = t_next,
             Control::Stop => {
                 if t_next < tf {
@@ -164,6 +164,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
                 system.rhs(t, y, &mut w.k[0]);
                 stats.rhs_evaluations += 1;
             }
+            Control::Correct { .. } => unreachable!("restart_if_corrected made it a restart"),
             Control::Truncate { t: tt } => {
                 // Take the step again from its start, to end at tt.
                 std::mem::swap(y, &mut w.y_new);
@@ -349,7 +350,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
             last_rejected = false;
             let s = Step { t_prev, t, y, kind, cont: &w.cont };
             let stiff_stop = limits.stop_when_stiff.is_some_and(|after| stats.accepted >= after) && stiff_count >= 15;
-            match on_step(&s).map_err(OdeError::Callback)? {
+            match on_step(&s).map_err(OdeError::Callback)?.restart_if_corrected(t) {
                 Control::Continue => {
                     if last {
                         return Ok(());
@@ -378,6 +379,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
                         return Ok(());
                     }
                 }
+                Control::Correct { .. } => unreachable!("restart_if_corrected made it a restart"),
                 Control::Truncate { t: tt } => {
                     // Take the step again from its start, to end at tt.
                     t = t_prev;

@@ -6,15 +6,19 @@
 //! - [`explicit`]: DOP853, Dormand–Prince 5(4) and fixed-step RK4 ([`integrate`]), with the
 //!   coefficients in `tableau`;
 //! - [`sdirk4`]: the L-stable implicit SDIRK4 ([`integrate_sdirk4`]), which solves with a
-//!   [`NewtonMatrix`] from [`newton`].
+//!   [`NewtonMatrix`] from [`newton`];
+//! - [`galpha`]: the generalized-α method at a fixed step ([`integrate_generalized_alpha`]),
+//!   with the same Newton matrix.
 
 pub mod explicit;
+pub mod galpha;
 pub mod newton;
 pub mod sdirk4;
 pub mod step;
 mod tableau;
 
 pub use explicit::integrate;
+pub use galpha::integrate_generalized_alpha;
 pub use newton::{DenseNewton, NewtonMatrix};
 pub use sdirk4::integrate_sdirk4;
 pub use step::{Control, ErrorNorm, Limits, Method, OdeError, OdeSystem, Stats, Step};

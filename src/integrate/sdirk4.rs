@@ -249,7 +249,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     stats.stopped_at = Some(t);
                 }
             }
-            match on_step(&Step::hermite(t_prev, t, &y, &cont)).map_err(OdeError::Callback)? {
+            match on_step(&Step::hermite(t_prev, t, &y, &cont)).map_err(OdeError::Callback)?.restart_if_corrected(t) {
                 Control::Continue => {}
                 Control::Stop => {
                     if t < tf {
@@ -262,6 +262,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     system.rhs(t, &y, &mut f0);
                     stats.rhs_evaluations += 1;
                 }
+                Control::Correct { .. } => unreachable!("restart_if_corrected made it a restart"),
                 Control::Truncate { t: tt } => {
                     // Take the step again from its start to end at tt.
                     stats.stopped_at = None;

@@ -179,6 +179,17 @@ pub enum OdeError<E> {
     Callback(E),
 }
 
+impl Control {
+    /// [`Control::Correct`] as a restart at `t` (the step's end), for the one-step methods;
+    /// every other request as it is.
+    pub fn restart_if_corrected(self, t: f64) -> Self {
+        match self {
+            Control::Correct { y } => Control::Restart { t, y },
+            other => other,
+        }
+    }
+}
+
 /// What the step callback asks the integrator to do next.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Control {
@@ -190,6 +201,14 @@ pub enum Control {
         /// Time to restart from.
         t: f64,
         /// State to restart from.
+        y: Vec<f64>,
+    },
+    /// Go on from `y` at the step's end: a small correction of the state the step reached
+    /// (locked directions projected back onto their constraints, the momenta restored), the
+    /// right-hand side unchanged. A one-step method restarts there; a method with a history
+    /// (generalized-α's derivative) keeps it.
+    Correct {
+        /// The corrected state.
         y: Vec<f64>,
     },
     /// Discard the step and take it again to end at `t` (inside the step): an event located

@@ -4,7 +4,7 @@
 use super::bodies::body;
 use super::error::{Ctx, ScenarioError, enclosing_item, in_user_words};
 use super::laws::law;
-use super::raw::{RawBody, RawFrame, RawHinge, RawScenario};
+use super::raw::{RawBody, RawFrame, RawHinge, RawRun, RawScenario};
 use super::values::{angles, angular_rate, check_finite, positive, vec3};
 use crate::dynamics::Dynamics;
 use crate::integrate::ErrorNorm;
@@ -139,7 +139,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             ));
         }
     };
-    if let (Some(x), "dop853" | "dopri5" | "rk4") = (&run.error_norm, integrator_name) {
+    if let (Some(x), "dop853" | "dopri5" | "rk4" | "generalized-alpha") = (&run.error_norm, integrator_name) {
         return Err(ctx.span(
             x,
             format!("'run.error_norm' applies to the implicit steps of integrator \"sdirk4\" or \"auto\", not to '{integrator_name}' (its error control weighs every component as it is)"),
@@ -148,6 +148,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     let integrator = match integrator_name {
         name @ ("dop853" | "dopri5" | "sdirk4" | "auto") => {
             forbid(&run.step, "run.step")?;
+            forbid(&run.rho_inf, "run.rho_inf")?;
             let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
             let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
             // Hairer's codes refuse rtol ≤ 10 u (u the unit round-off): no step can be that
@@ -170,24 +171,31 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         "rk4" => {
             forbid(&run.rtol, "run.rtol")?;
             forbid(&run.atol, "run.atol")?;
-            let step = need(&run.step, "run.step", "fixed step in s")?;
-            let steps = duration / step;
-            if (step < MIN_STEP_OF_DURATION * duration || steps > MAX_DEFAULT_STEP_BUDGET)
-                && let Some(x) = &run.step
-            {
-                return Err(ctx.span(
-                    x,
-                    format!(
-                        "'run.step' = {step:e} s would take {steps:.3e} steps over run.duration = {duration} s; give a step of at least {:.3e} s ({MAX_DEFAULT_STEP_BUDGET:e} steps)",
-                        duration / MAX_DEFAULT_STEP_BUDGET
-                    ),
-                ));
-            }
-            Integrator::Rk4 { step }
+            forbid(&run.rho_inf, "run.rho_inf")?;
+            Integrator::Rk4 { step: fixed_step(ctx, run, duration, need(&run.step, "run.step", "fixed step in s")?)? }
+        }
+        "generalized-alpha" => {
+            let step = fixed_step(ctx, run, duration, need(&run.step, "run.step", "fixed step in s")?)?;
+            let rtol = need(&run.rtol, "run.rtol", "relative tolerance of the Newton iterations, e.g. 1e-8")?;
+            let atol = need(&run.atol, "run.atol", "absolute tolerance of the Newton iterations, e.g. 1e-8")?;
+            let rho_inf = match &run.rho_inf {
+                None => DEFAULT_RHO_INF,
+                Some(x) if (0.0..=1.0).contains(x.get_ref()) => *x.get_ref(),
+                Some(x) => {
+                    return Err(ctx.span(
+                        x,
+                        format!(
+                            "'run.rho_inf' = {} is not a spectral radius: give a number from 0 (the most numerical damping) to 1 (none)",
+                            x.get_ref()
+                        ),
+                    ));
+                }
+            };
+            Integrator::GeneralizedAlpha { step, rho_inf, rtol, atol }
         }
         other => {
             let message = format!(
-                "unknown integrator '{other}'; valid: \"auto\" (the default), \"dop853\", \"dopri5\", \"sdirk4\", \"rk4\""
+                "unknown integrator '{other}'; valid: \"auto\" (the default), \"dop853\", \"dopri5\", \"sdirk4\", \"generalized-alpha\", \"rk4\""
             );
             return Err(match &run.integrator {
                 Some(x) => ctx.span(x, message),
@@ -574,4 +582,25 @@ fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError
         _ => None,
     };
     ctx.at(span, e.message)
+}
+
+/// ρ∞ of `integrator = "generalized-alpha"` when `run.rho_inf` is not given: Exudyn's default,
+/// a tenth of an unresolved vibration's amplitude lost per step.
+pub const DEFAULT_RHO_INF: f64 = 0.9;
+
+/// A fixed step (`run.step`, s) checked against the run's duration and the step budget.
+fn fixed_step(ctx: &Ctx<'_>, run: &RawRun, duration: f64, step: f64) -> Result<f64, ScenarioError> {
+    let steps = duration / step;
+    if (step < MIN_STEP_OF_DURATION * duration || steps > MAX_DEFAULT_STEP_BUDGET)
+        && let Some(x) = &run.step
+    {
+        return Err(ctx.span(
+            x,
+            format!(
+                "'run.step' = {step:e} s would take {steps:.3e} steps over run.duration = {duration} s; give a step of at least {:.3e} s ({MAX_DEFAULT_STEP_BUDGET:e} steps)",
+                duration / MAX_DEFAULT_STEP_BUDGET
+            ),
+        ));
+    }
+    Ok(step)
 }

@@ -8,7 +8,7 @@ use super::stopped::stopped;
 use super::stream::{OutputTimes, RunState, StreamOut, Tracked};
 use crate::dynamics::Dynamics;
 use crate::dynamics::newton::GraphNewton;
-use crate::integrate::{Limits, Method, Stats, integrate, integrate_sdirk4};
+use crate::integrate::{Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
 use crate::kinematics::{InitialConditions, initial_state};
 use crate::model::Model;
 use crate::observe::Observer;
@@ -88,7 +88,7 @@ pub(super) fn prepare<'m>(
     breaks.sort_by(f64::total_cmp);
     breaks.dedup();
     dynamics.set_breaks(breaks.clone());
-    let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. });
+    let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. } | Integrator::GeneralizedAlpha { .. });
     let may_be_implicit = implicit || matches!(settings.integrator, Integrator::Auto { .. });
     let state = RunState {
         total_mass: model.total_mass(),
@@ -163,12 +163,32 @@ pub(super) fn integrate_span(
             differenced_jacobians = newton.jacobian_counts().1;
             r
         }
+        Integrator::GeneralizedAlpha { step, rho_inf, rtol, atol } => {
+            let mut newton = GraphNewton::new_exact(dynamics, model, dynamics);
+            let r = integrate_generalized_alpha(
+                dynamics,
+                &mut newton,
+                step,
+                rho_inf,
+                rtol,
+                atol,
+                limits,
+                t0,
+                t1,
+                y0,
+                on_step,
+            );
+            differenced_jacobians = newton.jacobian_counts().1;
+            r
+        }
         other => {
             let method = match other {
                 Integrator::Dop853 { rtol, atol } => Method::Dop853 { rtol, atol },
                 Integrator::Dopri5 { rtol, atol } => Method::Dopri5 { rtol, atol },
                 Integrator::Rk4 { step } => Method::Rk4 { step },
-                Integrator::Sdirk4 { .. } | Integrator::Auto { .. } => unreachable!("handled above"),
+                Integrator::Sdirk4 { .. } | Integrator::Auto { .. } | Integrator::GeneralizedAlpha { .. } => {
+                    unreachable!("handled above")
+                }
             };
             integrate(dynamics, method, limits, t0, t1, y0, on_step)
         }

@@ -37,6 +37,18 @@ pub enum Integrator {
         /// Absolute tolerance per component.
         atol: f64,
     },
+    /// Generalized-α (Jansen, Whiting & Hulbert 2000) at a fixed step: second order, one
+    /// implicit stage, high-frequency damping set by ρ∞ ([`crate::integrate::galpha`]).
+    GeneralizedAlpha {
+        /// Step, s.
+        step: f64,
+        /// Spectral radius at infinite frequency, in [0, 1] (1: no numerical damping).
+        rho_inf: f64,
+        /// Relative tolerance of the Newton iterations per component.
+        rtol: f64,
+        /// Absolute tolerance of the Newton iterations per component.
+        atol: f64,
+    },
     /// Classical fourth-order Runge–Kutta with a fixed step.
     Rk4 {
         /// Step, s.
@@ -53,6 +65,7 @@ impl Integrator {
             Integrator::Sdirk4 { .. } => "sdirk4",
             Integrator::Auto { .. } => "auto",
             Integrator::Rk4 { .. } => "rk4",
+            Integrator::GeneralizedAlpha { .. } => "generalized-alpha",
         }
     }
 }

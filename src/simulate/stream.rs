@@ -460,7 +460,7 @@ impl StreamOut<'_, '_, '_, '_> {
         if step.t > step.t_prev && (self.dynamics.has_locks() || self.s.momenta.is_some()) {
             let mut y = step.y.to_vec();
             if self.correct(&mut y) {
-                return Ok(Control::Restart { t: step.t, y });
+                return Ok(Control::Correct { y });
             }
         }
         Ok(Control::Continue)
@@ -536,7 +536,7 @@ impl Tracked<'_, '_, '_, '_, '_> {
         let control = self.out.on_step(step)?;
         match &control {
             Control::Continue | Control::Stop => self.end.clone_from_slice(step.y),
-            Control::Restart { y, .. } => self.end.clone_from_slice(y),
+            Control::Restart { y, .. } | Control::Correct { y } => self.end.clone_from_slice(y),
             Control::Truncate { .. } => {}
         }
         Ok(control)

@@ -365,6 +365,57 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
     }
 }
 
+impl<S: OdeSystem + ?Sized> GraphNewton<'_, S> {
+    /// The Newton matrix in the bodies' twists (and the locked hinges' multipliers) at `hγ`,
+    /// the pose corrections eliminated: `S = I − hγ ∂a/∂v − (hγ)² ∂a/∂x P ∂ẋ/∂v` by 6 × 6
+    /// blocks, one block row per body then per locked hinge, with the Jacobian of the last
+    /// [`NewtonMatrix::prepare`]. What [`NewtonMatrix::refactor`] factors; public for the
+    /// benchmark that factors it with a general sparse LU (`benches/sparse_lu.rs`).
+    pub fn twist_blocks(&self, h_gamma: f64) -> Vec<BTreeMap<usize, Block>> {
+        let p_rates: Vec<SMatrix<f64, X, V>> = self.pose.iter().map(|p| p.p_rates(h_gamma)).collect();
+        // S blocks; the elimination adds its fill.
+        let nodes = self.nb + self.groups.len();
+        let mut s: Vec<BTreeMap<usize, Block>> = vec![BTreeMap::new(); nodes];
+        for (i, row) in s.iter_mut().enumerate().take(self.nb) {
+            for (slot, &j) in self.neighbours[i].iter().enumerate() {
+                let mut blk = -self.jac_v[i][slot] * h_gamma - self.jac_x[i][slot] * p_rates[j] * (h_gamma * h_gamma);
+                if i == j {
+                    blk += Block::identity();
+                }
+                row.insert(j, blk);
+            }
+        }
+        // Locked hinges: J in their rows, −M⁻¹Jᵀ in their bodies' rows; the rows and columns
+        // beyond the hinge's locked directions are the identity (a multiplier of zero).
+        // A lock's row: J + hγ ∂(Ja+γ)/∂v + (hγ)² ∂(Ja+γ)/∂x P ∂ẋ/∂v (the pose corrections
+        // eliminated as for S).
+        let mut first = 0;
+        for (g, &(p, c, k)) in self.groups.iter().enumerate() {
+            let node = self.nb + g;
+            let mut diagonal = Block::zeros();
+            for d in k..V {
+                diagonal[(d, d)] = 1.0;
+            }
+            s[node].insert(node, diagonal);
+            for (side, b) in [p, c].into_iter().enumerate() {
+                let (mut row_block, mut column_block) = (Block::zeros(), Block::zeros());
+                for (r, row) in self.group_rows[first..first + k].iter().enumerate() {
+                    let d_pose = SMatrix::<f64, 1, X>::from_row_slice(&row.d_pose[side]);
+                    let through_pose = d_pose * p_rates[b] * (h_gamma * h_gamma);
+                    for col in 0..V {
+                        row_block[(r, col)] = row.j[side][col] + h_gamma * row.d_twist[side][col] + through_pose[col];
+                        column_block[(col, r)] = -row.m_inv_j[side][col];
+                    }
+                }
+                *s[node].entry(b).or_insert_with(Block::zeros) += row_block;
+                *s[b].entry(node).or_insert_with(Block::zeros) += column_block;
+            }
+            first += k;
+        }
+        s
+    }
+}
+
 impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
     fn prepare(&mut self, t: f64, y: &[f64], f: &[f64], h_gamma: f64) -> bool {
         for (b, pose) in self.pose.iter_mut().enumerate() {
@@ -442,46 +493,8 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
 
     fn refactor(&mut self, h_gamma: f64) -> bool {
         self.h_gamma = h_gamma;
-        let p_rates: Vec<SMatrix<f64, X, V>> = self.pose.iter().map(|p| p.p_rates(h_gamma)).collect();
-        // S blocks (with room for fill), then elimination in order.
         let nodes = self.nb + self.groups.len();
-        let mut s: Vec<BTreeMap<usize, Block>> = vec![BTreeMap::new(); nodes];
-        for (i, row) in s.iter_mut().enumerate().take(self.nb) {
-            for (slot, &j) in self.neighbours[i].iter().enumerate() {
-                let mut blk = -self.jac_v[i][slot] * h_gamma - self.jac_x[i][slot] * p_rates[j] * (h_gamma * h_gamma);
-                if i == j {
-                    blk += Block::identity();
-                }
-                row.insert(j, blk);
-            }
-        }
-        // Locked hinges: J in their rows, −M⁻¹Jᵀ in their bodies' rows; the rows and columns
-        // beyond the hinge's locked directions are the identity (a multiplier of zero).
-        // A lock's row: J + hγ ∂(Ja+γ)/∂v + (hγ)² ∂(Ja+γ)/∂x P ∂ẋ/∂v (the pose corrections
-        // eliminated as for S).
-        let mut first = 0;
-        for (g, &(p, c, k)) in self.groups.iter().enumerate() {
-            let node = self.nb + g;
-            let mut diagonal = Block::zeros();
-            for d in k..V {
-                diagonal[(d, d)] = 1.0;
-            }
-            s[node].insert(node, diagonal);
-            for (side, b) in [p, c].into_iter().enumerate() {
-                let (mut row_block, mut column_block) = (Block::zeros(), Block::zeros());
-                for (r, row) in self.group_rows[first..first + k].iter().enumerate() {
-                    let d_pose = SMatrix::<f64, 1, X>::from_row_slice(&row.d_pose[side]);
-                    let through_pose = d_pose * p_rates[b] * (h_gamma * h_gamma);
-                    for col in 0..V {
-                        row_block[(r, col)] = row.j[side][col] + h_gamma * row.d_twist[side][col] + through_pose[col];
-                        column_block[(col, r)] = -row.m_inv_j[side][col];
-                    }
-                }
-                *s[node].entry(b).or_insert_with(Block::zeros) += row_block;
-                *s[b].entry(node).or_insert_with(Block::zeros) += column_block;
-            }
-            first += k;
-        }
+        let mut s = self.twist_blocks(h_gamma);
         let position = &self.position;
         self.pivots = vec![Block::zeros(); nodes];
         self.upper = vec![Vec::new(); nodes];

@@ -93,12 +93,14 @@ pub(crate) fn run(
     let mut tick = |p: &foldsim::simulate::Progress<'_, '_>| {
         let t = p.t;
         watch.tick(t, duration, "s", || {
-            format!(
-                "steps of {:.2e} s ({}); what holds them back: {}; or shorten run.duration. Ctrl-C stops it",
-                p.step,
-                p.method,
-                p.pace()
-            )
+            // Before its first step a run has no step size to show (a large model with
+            // contact can take seconds over it).
+            let steps = if p.step > 0.0 {
+                format!("steps of {:.2e} s ({})", p.step, p.method)
+            } else {
+                format!("no step finished yet ({})", p.method)
+            };
+            format!("{steps}; what holds them back: {}; or shorten run.duration. Ctrl-C stops it", p.pace())
         });
         if let Some(b) = &bar {
             b.set_position((1000.0 * t / duration) as u64);

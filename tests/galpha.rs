@@ -77,3 +77,21 @@ fn generalized_alpha_follows_a_stiff_grid_at_steps_over_its_vibrations() {
     assert!(r1.drift.energy <= 1e-7 * e0, "{:e}", r1.drift.energy / e0);
     assert!(r5.drift.energy > r1.drift.energy);
 }
+
+/// A fixed step fine enough to need more steps than the hinges' rates alone would budget
+/// (the paper case's soft hinges: the default budget is 1e6) gets room for twice its steps,
+/// rather than a run stopped by its budget part-way; rk4 likewise.
+#[test]
+fn a_fixed_step_gets_the_steps_it_asks_for() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/paper-3panel.toml");
+    for integrator in [
+        Integrator::GeneralizedAlpha { step: 1e-6, rho_inf: 0.9, rtol: 1e-8, atol: 1e-8 },
+        Integrator::Rk4 { step: 1e-6 },
+    ] {
+        let mut s = Scenario::from_file(&path).unwrap();
+        s.settings.integrator = integrator;
+        let asked = s.settings.duration / 1e-6;
+        let budget = s.settings.limits(&s.model).max_steps as f64;
+        assert!(budget >= 2.0 * asked, "{integrator:?}: budget {budget:e} for {asked:e} steps");
+    }
+}

@@ -140,9 +140,15 @@ impl RunSettings {
     /// The bounds the run holds its integrator to: steps no shorter than
     /// [`MIN_STEP_OF_DURATION`] × duration, and at most `max_steps` of them.
     pub fn limits(&self, model: &Model) -> Limits {
-        let max_steps = self
-            .max_steps
-            .unwrap_or_else(|| default_step_budget(model, self.duration).min(MAX_DEFAULT_STEP_BUDGET) as usize);
+        // A fixed step asks for duration / step steps: the budget leaves room for twice that
+        // (cuts to land on breaks, halvings where Newton fails) whatever the hinges' rates.
+        let fixed = match self.integrator {
+            Integrator::Rk4 { step } | Integrator::GeneralizedAlpha { step, .. } => 2.0 * self.duration / step,
+            _ => 0.0,
+        };
+        let max_steps = self.max_steps.unwrap_or_else(|| {
+            default_step_budget(model, self.duration).max(fixed).min(MAX_DEFAULT_STEP_BUDGET) as usize
+        });
         Limits { min_step: MIN_STEP_OF_DURATION * self.duration, max_steps, ..Limits::default() }
     }
 }

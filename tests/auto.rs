@@ -8,15 +8,6 @@ use common::*;
 use foldsim::generate::{Params, grid, zfold};
 use foldsim::scenario::Scenario;
 
-/// The largest distance between two runs' body positions over their common rows, m.
-fn largest_distance(a: &[foldsim::observe::Observation], b: &[foldsim::observe::Observation]) -> f64 {
-    assert_eq!(a.len(), b.len(), "the same output rows");
-    a.iter()
-        .zip(b)
-        .flat_map(|(x, y)| x.body_r_in_n.iter().zip(&y.body_r_in_n).map(|(p, q)| (p - q).norm()))
-        .fold(0.0, f64::max)
-}
-
 /// A stiff loop-heavy grid (1e7 N/m off-axis), 10 s at 1e-6, left without an integrator:
 /// auto starts with DOP853, finds it held by stability and finishes with SDIRK4 in far
 /// fewer steps than DOP853 alone; every body follows DOP853's run to 1e-4 m (the grid's

@@ -8,15 +8,6 @@ use foldsim::generate::{Params, grid};
 use foldsim::scenario::Scenario;
 use foldsim::simulate::Integrator;
 
-/// The largest distance between two runs' body positions over their common rows, m.
-fn largest_distance(a: &[foldsim::observe::Observation], b: &[foldsim::observe::Observation]) -> f64 {
-    assert_eq!(a.len(), b.len(), "the same output rows");
-    a.iter()
-        .zip(b)
-        .flat_map(|(x, y)| x.body_r_in_n.iter().zip(&y.body_r_in_n).map(|(p, q)| (p - q).norm()))
-        .fold(0.0, f64::max)
-}
-
 /// `load()` under generalized-α at `step` with ρ∞ `rho_inf`, Newton to 1e-10.
 fn under_generalized_alpha(load: impl Fn() -> Scenario, step: f64, rho_inf: f64) -> Scenario {
     let mut s = load();
@@ -32,8 +23,7 @@ fn under_generalized_alpha(load: impl Fn() -> Scenario, step: f64, rho_inf: f64)
 /// restores the momenta) the ratio fell towards 2: first order.
 #[test]
 fn generalized_alpha_is_second_order_on_the_paper_case() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/paper-3panel.toml");
-    let load = || Scenario::from_file(&path).unwrap();
+    let load = || scenario("examples/paper-3panel.toml");
     let (_, obs_ref, _) = run(&load());
     for rho_inf in [0.9, 0.5] {
         let error = |step: f64| largest_distance(&obs_ref, &run(&under_generalized_alpha(load, step, rho_inf)).1);
@@ -83,12 +73,11 @@ fn generalized_alpha_follows_a_stiff_grid_at_steps_over_its_vibrations() {
 /// rather than a run stopped by its budget part-way; rk4 likewise.
 #[test]
 fn a_fixed_step_gets_the_steps_it_asks_for() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/paper-3panel.toml");
     for integrator in [
         Integrator::GeneralizedAlpha { step: 1e-6, rho_inf: 0.9, rtol: 1e-8, atol: 1e-8 },
         Integrator::Rk4 { step: 1e-6 },
     ] {
-        let mut s = Scenario::from_file(&path).unwrap();
+        let mut s = scenario("examples/paper-3panel.toml");
         s.settings.integrator = integrator;
         let asked = s.settings.duration / 1e-6;
         let budget = s.settings.limits(&s.model).max_steps as f64;

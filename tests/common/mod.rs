@@ -31,6 +31,15 @@ pub fn scenario(path: &str) -> Scenario {
     Scenario::from_file(&repo(path)).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The largest distance between two runs' body positions over their common rows, m.
+pub fn largest_distance(a: &[Observation], b: &[Observation]) -> f64 {
+    assert_eq!(a.len(), b.len(), "the same output rows");
+    a.iter()
+        .zip(b)
+        .flat_map(|(x, y)| x.body_r_in_n.iter().zip(&y.body_r_in_n).map(|(p, q)| (p - q).norm()))
+        .fold(0.0, f64::max)
+}
+
 /// A table of named columns.
 pub struct Table {
     pub columns: Vec<String>,

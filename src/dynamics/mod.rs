@@ -96,7 +96,7 @@ pub struct Dynamics<'m> {
     actuators: RefCell<actuators::ActuatorMemory>,
     /// Times at which the right-hand side jumps (loads and motors switching, their tables'
     /// corners, the control's samples), s, ascending: no step passes one.
-    breaks: RefCell<Vec<f64>>,
+    breaks: RefCell<crate::loads::breaks::Breaks>,
     /// The time of the last accepted state, s.
     accepted: Cell<f64>,
     /// Loads set from outside the run (a stepped run: crate::simulate::stepper), one per
@@ -169,7 +169,7 @@ impl<'m> Dynamics<'m> {
                 m
             },
             actuators: RefCell::new(Default::default()),
-            breaks: RefCell::new(Vec::new()),
+            breaks: RefCell::new(Default::default()),
             accepted: Cell::new(f64::NEG_INFINITY),
             commanded: RefCell::new(Vec::new()),
         }
@@ -524,15 +524,14 @@ impl crate::integrate::OdeSystem for Dynamics<'_> {
     fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
         // At a break not yet accepted, the step that lands on it sees the left limit of what
         // jumps there (its last stages are at the break); the steps after it the right one.
-        let at_break = t > self.accepted.get() && self.breaks.borrow().binary_search_by(|b| b.total_cmp(&t)).is_ok();
+        let at_break = t > self.accepted.get() && self.breaks.borrow().contains(t);
         self.time.set(if at_break && t > 0.0 { f64::from_bits(t.to_bits() - 1) } else { t });
         Dynamics::rhs(self, y, dydt);
     }
 
     fn next_break(&self, t: f64) -> Option<f64> {
-        let breaks = self.breaks.borrow();
         let tiny = 1e-12 * t.abs().max(1.0);
-        breaks.get(breaks.partition_point(|&b| b <= t + tiny)).copied()
+        self.breaks.borrow().next_after(t + tiny)
     }
 
     /// Every body's velocity and angular velocity (crate::state's VEL and OMEGA).
@@ -545,11 +544,9 @@ impl crate::integrate::OdeSystem for Dynamics<'_> {
 }
 
 impl Dynamics<'_> {
-    /// Sets the times at which the right-hand side jumps (s, any order): the integrator's
-    /// steps land on each ([`crate::integrate::OdeSystem::next_break`]).
-    pub fn set_breaks(&self, mut breaks: Vec<f64>) {
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup();
+    /// Sets the times at which the right-hand side jumps: the integrator's steps land on
+    /// each ([`crate::integrate::OdeSystem::next_break`]).
+    pub fn set_breaks(&self, breaks: crate::loads::breaks::Breaks) {
         *self.breaks.borrow_mut() = breaks;
     }
 }

@@ -121,6 +121,13 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         }
         let t_next = (t0 + i * step).min(tf);
         let t_next = if tf - t_next < 1e-9 * step { tf } else { t_next };
+        // A break of the right-hand side (a load's switch, a control sample) on or before
+        // that grid point is landed on exactly: a step that ended a round-off past it would
+        // take its last stage from after the jump (F·h/6 of a switched load's impulse lost).
+        let t_next = match system.next_break(t) {
+            Some(b) if b < tf && t_next >= b - 1e-9 * step => b,
+            _ => t_next,
+        };
         let t_next = forced_end.take().unwrap_or(t_next);
         let h = t_next - t;
         if stats.accepted + stats.rejected >= limits.max_steps {

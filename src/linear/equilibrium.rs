@@ -17,6 +17,24 @@ use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, POS, QUAT, VEL};
 use nalgebra::{DMatrix, DVector};
 use std::fmt::Write as _;
 
+/// The largest turn of a body in one Newton iteration, rad (about 11°).
+const MAX_TURN: f64 = 0.2;
+/// The smallest damping of a Newton step before the search gives up.
+const MIN_DAMPING: f64 = 1e-6;
+
+/// The error when the forces at the start are not finite.
+fn non_finite(spin: &Vec3) -> String {
+    // The largest component: the norm of a spin of 1e160 rad/s overflows.
+    if spin.amax() > 0.0 {
+        format!(
+            "the forces of a spin at {:e} rad/s are not finite in f64: give a spin rate the structure can bear",
+            spin.amax()
+        )
+    } else {
+        "the forces at the initial state are not finite".into()
+    }
+}
+
 /// A static equilibrium found.
 #[derive(Clone, Debug)]
 pub struct Equilibrium {
@@ -58,8 +76,7 @@ fn imbalance(dynamics: &Dynamics<'_>, y: &[f64], spin: &Vec3) -> DVector<f64> {
 
 /// The rates of a steady spin at `spin` (rad/s, N) about the hub's centre of mass: every
 /// body's `ω = spin` (body components) and `Ṙ = spin × (R − R_hub)`, the hub's velocity zero.
-fn spin_rates(y: &mut [f64], spin: &Vec3) {
-    let n = y.len() / B;
+fn spin_rates(y: &mut [f64], n: usize, spin: &Vec3) {
     let hub = BodyMotion::from_state(y, 0).r_in_n;
     for i in 0..n {
         let m = BodyMotion::from_state(y, i);
@@ -71,10 +88,11 @@ fn spin_rates(y: &mut [f64], spin: &Vec3) {
     }
 }
 
-/// Moves every body but the hub by `step` (6 per body: ΔR in N, Δφ in body components).
-fn moved(y: &[f64], step: &DVector<f64>, scale: f64) -> Vec<f64> {
+/// Moves every body but the hub of the `n` by `step` (6 per body: ΔR in N, Δφ in body
+/// components); the state's numbers after the bodies' (hinge histories, work) are kept.
+fn moved(y: &[f64], n: usize, step: &DVector<f64>, scale: f64) -> Vec<f64> {
     let mut z = y.to_vec();
-    for i in 1..y.len() / B {
+    for i in 1..n {
         let d = |c: usize| scale * step[6 * (i - 1) + c];
         for c in 0..3 {
             z[B * i + POS + c] += d(c);
@@ -94,6 +112,61 @@ fn moved(y: &[f64], step: &DVector<f64>, scale: f64) -> Vec<f64> {
         }
     }
     z
+}
+
+/// Per tree hinge (model.tree's order): `[δ (m, A0), yaw, pitch, roll (rad)]` at `y`, the
+/// angles unwrapped near `refs`.
+fn tree_coordinates(model: &crate::model::Model, y: &[f64], refs: &[Euler321]) -> Vec<[f64; 6]> {
+    model
+        .tree
+        .iter()
+        .map(|e| {
+            let h = &model.hinges[e.hinge];
+            let k = hinge_kinematics(
+                h,
+                &BodyMotion::from_state(y, h.parent),
+                &BodyMotion::from_state(y, h.child),
+                &refs[e.hinge],
+            );
+            let (d, t) = (k.state.delta_in_a0, k.state.theta);
+            [d.x, d.y, d.z, t.yaw, t.pitch, t.roll]
+        })
+        .collect()
+}
+
+/// The state with every tree hinge at `coordinates` (as [`tree_coordinates`]), the bodies
+/// placed along the tree from the hub as `y` has it (rates zero; the numbers after the
+/// bodies' kept).
+fn placed(model: &crate::model::Model, y: &[f64], coordinates: &[[f64; 6]]) -> Vec<f64> {
+    use crate::kinematics::{RelativeTwist, place_motion};
+    let n = model.bodies.len();
+    let mut motions = vec![BodyMotion::from_state(y, 0); n];
+    for (e, c) in model.tree.iter().zip(coordinates) {
+        let rel = RelativeTwist { delta_in_a0: Vec3::new(c[0], c[1], c[2]), ..Default::default() };
+        motions[e.to] =
+            place_motion(&model.hinges[e.hinge], e.reversed, &motions[e.from], Euler321::new(c[3], c[4], c[5]), &rel);
+    }
+    let mut z = y.to_vec();
+    let bodies = crate::state::state_from_motions(model, &motions);
+    z[..bodies.len()].copy_from_slice(&bodies);
+    z
+}
+
+/// Newton's step `step` (maximal coordinates, as [`moved`] takes it) in the tree hinges'
+/// coordinates: their derivative along it, by central differences of [`tree_coordinates`]
+/// (the step is linear, its second-order part is what this leaves out).
+fn step_in_tree(
+    model: &crate::model::Model,
+    y: &[f64],
+    n: usize,
+    step: &DVector<f64>,
+    refs: &[Euler321],
+) -> Vec<[f64; 6]> {
+    let largest = step.amax().max(f64::MIN_POSITIVE);
+    let eps = 1e-6 / largest;
+    let plus = tree_coordinates(model, &moved(y, n, step, eps), refs);
+    let minus = tree_coordinates(model, &moved(y, n, step, -eps), refs);
+    plus.iter().zip(&minus).map(|(p, m)| std::array::from_fn(|k| (p[k] - m[k]) / (2.0 * eps))).collect()
 }
 
 /// `K_Ω = −M (J_x + J_v S − [Ω×]²)` (6n × 6n): the stiffness of a steady spin at `spin`
@@ -161,12 +234,31 @@ impl Equilibrium {
             return Err("a structure of one body is in equilibrium anywhere".into());
         }
         let mut y = y0.to_vec();
-        spin_rates(&mut y, &spin);
+        spin_rates(&mut y, n, &spin);
         dynamics.accept(0.0, &y)?;
         let mut f = imbalance(dynamics, &y, &spin);
         let start_residual = f.amax();
+        if !start_residual.is_finite() {
+            return Err(non_finite(&spin));
+        }
+        // Rotations weigh in the step's norm by each body's radius of gyration (m), so that
+        // a turn and a shift that move the body's material alike count alike.
+        let gyration: Vec<f64> =
+            model.bodies.iter().map(|b| (b.inertia_in_body.trace() / (2.0 * b.mass)).sqrt().max(1e-6)).collect();
+        let norm = |d: &DVector<f64>| {
+            (0..6 * (n - 1))
+                .map(|k| {
+                    let w = if k % 6 < 3 { 1.0 } else { gyration[1 + k / 6] };
+                    (w * d[k]).powi(2)
+                })
+                .sum::<f64>()
+                .sqrt()
+        };
         let mut iterations = 0;
-        while f.amax() > tolerance {
+        while f.amax() > tolerance || !f.iter().all(|x| x.is_finite()) {
+            if !f.iter().all(|x| x.is_finite()) {
+                return Err(non_finite(&spin));
+            }
             if iterations == max_iterations {
                 return Err(format!(
                     "no equilibrium after {max_iterations} Newton iterations: the largest force or torque left is {:.3e} (from {start_residual:.3e}); the structure may have none near its initial state (a mechanism, or a buckling load)",
@@ -178,20 +270,62 @@ impl Equilibrium {
             let k = spinning_stiffness(&lin, &y, &spin);
             let keep: Vec<usize> = (6..6 * n).collect();
             let kc: DMatrix<f64> = k.select_rows(keep.iter()).select_columns(keep.iter());
-            let step = kc.lu().solve(&f).ok_or("the stiffness with the hub held is singular: the structure is a mechanism (a direction with no stiffness) and has no isolated equilibrium")?;
-            // Halve the step while the imbalance does not shrink.
-            let mut scale = 1.0;
+            let lu = kc.lu();
+            let singular = "the stiffness with the hub held is singular: the structure is a mechanism (a direction with no stiffness) and has no isolated equilibrium";
+            let step = lu.solve(&f).ok_or(singular)?;
+            let step_norm = norm(&step);
+            // Globalised Newton (Deuflhard's natural monotonicity test, *Newton Methods for
+            // Nonlinear Problems*, 2004, §3.3 and NLEQ-ERR): a damped step λ is taken when the
+            // simplified correction K⁻¹ F(x + λΔ) (the old factorization) shrinks below
+            // (1 − λ/4) |Δ|. The test is affine invariant: a stiff direction whose force
+            // jumps with the curvature of a turn (a hinge's 1e6 N/m stretch as a soft fold
+            // closes) counts by the displacement that force means, not by the force, so the
+            // full step passes where the largest force alone would halve it away. No body
+            // turns more than MAX_TURN in one iteration, so no iterate jumps across a hinge's
+            // pitch ±90°.
+            let largest_turn = (1..n)
+                .map(|i| Vec3::new(step[6 * (i - 1) + 3], step[6 * (i - 1) + 4], step[6 * (i - 1) + 5]).norm())
+                .fold(0.0, f64::max);
+            let mut scale = (MAX_TURN / largest_turn).min(1.0);
+            // The step is taken in the tree hinges' coordinates: each body placed from its
+            // parent by the hinge's exact kinematics, so a turn about a soft fold does not
+            // stretch the stiff directions by its curvature (a step in the bodies' own
+            // coordinates would, by ½ |Δφ|² times the arm).
+            let refs = dynamics.theta_refs().clone();
+            let from = tree_coordinates(model, &y, &refs);
+            let along = step_in_tree(model, &y, n, &step, &refs);
             loop {
-                let mut z = moved(&y, &step, scale);
-                spin_rates(&mut z, &spin);
-                dynamics.accept(0.0, &z)?;
-                let g = imbalance(dynamics, &z, &spin);
-                if g.amax() < f.amax() || scale < 1e-6 {
+                let to: Vec<[f64; 6]> =
+                    from.iter().zip(&along).map(|(c, d)| std::array::from_fn(|k| c[k] + scale * d[k])).collect();
+                let mut z = placed(model, &y, &to);
+                spin_rates(&mut z, n, &spin);
+                let trial = dynamics.accept(0.0, &z).map(|()| imbalance(dynamics, &z, &spin));
+                let passed = match &trial {
+                    Ok(g) if g.iter().all(|x| x.is_finite()) => {
+                        lu.solve(g).is_some_and(|simplified| norm(&simplified) <= (1.0 - scale / 4.0) * step_norm)
+                            || g.amax() <= tolerance
+                    }
+                    _ => false,
+                };
+                if passed {
                     y = z;
-                    f = g;
+                    f = trial.expect("passed");
                     break;
                 }
+                // Back to the iterate's own angle branches and memories.
+                dynamics.accept(0.0, &y)?;
                 scale *= 0.5;
+                if scale < MIN_DAMPING {
+                    let why = match trial {
+                        Err(m) => format!(" (a trial step: {m})"),
+                        Ok(g) if !g.iter().all(|x| x.is_finite()) => " (a trial step's forces are not finite)".into(),
+                        Ok(_) => String::new(),
+                    };
+                    return Err(format!(
+                        "no equilibrium found: after {iterations} Newton iterations no step along Newton's direction brings the structure nearer to balance{why}; the largest force or torque left is {:.3e} (from {start_residual:.3e}). The structure may have none near its initial state (a mechanism, a buckling load, or a stowed state far from any balance): start from a state nearer the equilibrium",
+                        f.amax()
+                    ));
+                }
             }
         }
         let refs = dynamics.theta_refs().clone();

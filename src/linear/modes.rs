@@ -326,6 +326,12 @@ pub struct SpinningMode {
 pub fn spinning(dynamics: &crate::dynamics::Dynamics<'_>, y: &[f64], spin: Vec3) -> Result<Vec<SpinningMode>, String> {
     let lin = Linearization::at(dynamics, y, spin)?;
     let eigen = lin.state_matrix().complex_eigenvalues();
+    if eigen.iter().any(|e| !(e.re.is_finite() && e.im.is_finite())) {
+        return Err(format!(
+            "the state matrix spinning at {:e} rad/s has eigenvalues that are not finite in f64: give a spin rate the structure can bear",
+            spin.amax()
+        ));
+    }
     let largest = eigen.iter().map(|e| e.norm()).fold(0.0, f64::max);
     let mut out: Vec<SpinningMode> = eigen
         .iter()
@@ -333,5 +339,11 @@ pub fn spinning(dynamics: &crate::dynamics::Dynamics<'_>, y: &[f64], spin: Vec3)
         .map(|e| SpinningMode { omega: e.norm(), damped: e.im, damping_ratio: -e.re / e.norm() })
         .collect();
     out.sort_by(|a, b| a.damped.total_cmp(&b.damped));
+    if out.is_empty() {
+        return Err(format!(
+            "no oscillating mode spinning at {:e} rad/s: every eigenvalue of the state matrix is real or negligible",
+            spin.amax()
+        ));
+    }
     Ok(out)
 }

@@ -262,12 +262,6 @@ impl Control {
     pub fn wheel_spin_inertia(&self) -> Mat3 {
         self.wheels().iter().map(|w| w.axis_in_hub * w.axis_in_hub.transpose() * w.inertia).sum()
     }
-
-    /// The sample times in `(0, end]`, s: multiples of the period (none without one).
-    pub fn sample_times(&self, end: f64) -> Vec<f64> {
-        let Some(period) = self.period else { return Vec::new() };
-        (1..).map(|k| k as f64 * period).take_while(|&t| t <= end).collect()
-    }
 }
 
 /// What the motors and the hub's control did at one instant: an output row's columns.

@@ -6,6 +6,7 @@
 //! them to the bodies' wrenches): it knows frames and time, nothing of hinges or contact.
 //! Evaluation is generic over the scalar so that the exact Jacobian can differentiate it.
 
+pub mod breaks;
 pub mod control;
 pub mod motor;
 

@@ -3,12 +3,14 @@
 //! located.
 
 use super::error::{Ctx, ScenarioError};
+use super::values::Exact;
 use crate::law::directional::DIRECTION_NAMES;
 use crate::loads::Profile;
 use crate::loads::control::{Actuators, Control, Law, Thruster, Wheel};
 use crate::loads::motor::{Drive, Motor};
 use crate::math::Vec3;
 use crate::model::Model;
+use crate::simulate::settings::{MAX_DEFAULT_STEP_BUDGET, MIN_STEP_OF_DURATION};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -26,7 +28,7 @@ pub(super) struct RawMotor {
     kp: Option<Spanned<f64>>,
     kd: Option<Spanned<f64>>,
     limit: Option<Spanned<f64>>,
-    on: Option<Spanned<Vec<[f64; 2]>>>,
+    on: Option<Spanned<Vec<Exact<f64, 2>>>>,
 }
 
 /// `[control]` as read.
@@ -37,7 +39,7 @@ pub(super) struct RawControl {
     k: Option<Spanned<f64>>,
     p: Option<Spanned<f64>>,
     target: Option<Spanned<toml::Value>>,
-    spin_axis: Option<Spanned<[f64; 3]>>,
+    spin_axis: Option<Spanned<Exact<f64, 3>>>,
     spin_rate: Option<Spanned<f64>>,
     spin_rate_rpm: Option<Spanned<f64>>,
     period: Option<Spanned<f64>>,
@@ -53,7 +55,7 @@ pub(super) struct RawControl {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawWheel {
     name: Spanned<String>,
-    axis: Spanned<[f64; 3]>,
+    axis: Spanned<Exact<f64, 3>>,
     inertia: Spanned<f64>,
     max_torque: Option<Spanned<f64>>,
     max_momentum: Option<Spanned<f64>>,
@@ -66,18 +68,8 @@ pub(super) struct RawWheel {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawThruster {
     name: Spanned<String>,
-    axis: Spanned<[f64; 3]>,
+    axis: Spanned<Exact<f64, 3>>,
     max_torque: Option<Spanned<f64>>,
-}
-
-/// Time windows `[[on, off], …]`, each on < off.
-fn windows(ctx: &Ctx<'_>, on: &Option<Spanned<Vec<[f64; 2]>>>, what: &str) -> Result<Vec<(f64, f64)>, ScenarioError> {
-    let Some(w) = on else { return Ok(Vec::new()) };
-    let v = w.get_ref();
-    if v.iter().any(|[a, b]| !(a.is_finite() && b.is_finite() && a < b)) {
-        return Err(ctx.span(w, format!("{what}: 'on' is a list of [on, off] times, s, each on < off")));
-    }
-    Ok(v.iter().map(|[a, b]| (*a, *b)).collect())
 }
 
 /// A positive limit, or none (infinite) when absent.
@@ -86,7 +78,7 @@ fn limit(ctx: &Ctx<'_>, v: &Option<Spanned<f64>>, key: &str, unit: &str) -> Resu
 }
 
 /// A unit axis from a nonzero vector.
-fn axis(ctx: &Ctx<'_>, v: &Spanned<[f64; 3]>, what: &str) -> Result<Vec3, ScenarioError> {
+fn axis(ctx: &Ctx<'_>, v: &Spanned<Exact<f64, 3>>, what: &str) -> Result<Vec3, ScenarioError> {
     let a = Vec3::from(*v.get_ref());
     if !(a.norm() > 0.0 && a.norm().is_finite()) {
         return Err(ctx.span(v, format!("{what}: 'axis' must be a nonzero vector [x, y, z] in the hub's frame")));
@@ -127,9 +119,15 @@ fn scalar_profile(
 }
 
 /// The motors of `raw`, added to `model`.
-pub(super) fn add_motors(ctx: &Ctx<'_>, raw: &[RawMotor], model: &mut Model) -> Result<(), ScenarioError> {
+pub(super) fn add_motors(
+    ctx: &Ctx<'_>,
+    raw: &[RawMotor],
+    model: &mut Model,
+    duration: f64,
+) -> Result<(), ScenarioError> {
     let mut names = std::collections::HashSet::new();
     for r in raw {
+        super::values::check_name(ctx, &r.name, "motor")?;
         let name = r.name.get_ref().clone();
         let what = format!("motor '{name}'");
         if !names.insert(name.clone()) {
@@ -191,14 +189,25 @@ pub(super) fn add_motors(ctx: &Ctx<'_>, raw: &[RawMotor], model: &mut Model) -> 
                 ));
             }
         };
-        model.motors.push(Motor { name, hinge, direction, drive, windows: windows(ctx, &r.on, &what)? });
+        model.motors.push(Motor {
+            name,
+            hinge,
+            direction,
+            drive,
+            windows: super::values::windows(ctx, &r.on, &what, duration)?,
+        });
     }
     Ok(())
 }
 
 /// The hub's control of `raw`, added to `model` (the hub's inertia less the wheels' spin
 /// inertias).
-pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut Model) -> Result<(), ScenarioError> {
+pub(super) fn add_control(
+    ctx: &Ctx<'_>,
+    raw: &Spanned<RawControl>,
+    model: &mut Model,
+    duration: f64,
+) -> Result<(), ScenarioError> {
     let r = raw.get_ref();
     let p = || match &r.p {
         Some(p) => super::values::positive(ctx, p, "control.p", "N·m·s"),
@@ -272,7 +281,19 @@ pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut 
                     "control: rate_damping drives every rate to zero; for a spin give law = \"spin_hold\"",
                 ));
             }
+            if let Some(t) = &r.target {
+                return Err(ctx.span(
+                    t,
+                    format!("control: law \"{}\" holds rates, not an attitude: 'target' belongs to \"mrp_pd\" or \"quaternion_pd\"", r.law.get_ref()),
+                ));
+            }
             let axis = match &r.spin_axis {
+                Some(a) if damping => {
+                    return Err(ctx.span(
+                        a,
+                        "control: rate_damping drives every rate to zero about every axis: 'spin_axis' belongs to \"spin_hold\"",
+                    ));
+                }
                 Some(a) => axis(ctx, a, "control")?,
                 None if damping => Vec3::z(),
                 None => {
@@ -293,6 +314,7 @@ pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut 
     };
     let mut names = std::collections::HashSet::new();
     let mut unique = |n: &Spanned<String>| {
+        super::values::check_name(ctx, n, "actuator")?;
         if names.insert(n.get_ref().clone()) {
             Ok(n.get_ref().clone())
         } else {
@@ -361,7 +383,21 @@ pub(super) fn add_control(ctx: &Ctx<'_>, raw: &Spanned<RawControl>, model: &mut 
         );
     }
     let period = match &r.period {
-        Some(v) => Some(super::values::positive(ctx, v, "control.period", "s")?),
+        Some(v) => {
+            let period = super::values::positive(ctx, v, "control.period", "s")?;
+            // Bounded as run.step is: each sample ends a step.
+            let samples = duration / period;
+            if period < MIN_STEP_OF_DURATION * duration || samples > MAX_DEFAULT_STEP_BUDGET {
+                return Err(ctx.span(
+                    v,
+                    format!(
+                        "'control.period' = {period:e} s would take {samples:.3e} samples over run.duration = {duration} s, each ending a step; give a period of at least {:.3e} s ({MAX_DEFAULT_STEP_BUDGET:e} samples)",
+                        (duration / MAX_DEFAULT_STEP_BUDGET).max(MIN_STEP_OF_DURATION * duration)
+                    ),
+                ));
+            }
+            Some(period)
+        }
         None => None,
     };
     let control = Control::new(law, target, actuators, period).map_err(|m| ctx.span(raw, format!("control: {m}")))?;

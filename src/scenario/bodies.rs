@@ -122,9 +122,9 @@ fn shape(ctx: &Ctx<'_>, name: &str, s: &Spanned<RawShape>) -> Result<Shape, Scen
     let v = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
     let shape = match (&r.polygon, r.cuboid, r.cylinder) {
         (Some(vertices), None, None) => {
-            Shape::Plate { vertices: vertices.iter().map(|p| v(*p)).collect(), thickness: r.thickness.unwrap_or(0.0) }
+            Shape::Plate { vertices: vertices.iter().map(|p| v(p.0)).collect(), thickness: r.thickness.unwrap_or(0.0) }
         }
-        (None, Some(size), None) if r.thickness.is_none() => Shape::Cuboid { size: v(size), center: Vec3::zeros() },
+        (None, Some(size), None) if r.thickness.is_none() => Shape::Cuboid { size: v(size.0), center: Vec3::zeros() },
         (None, None, Some(c)) if r.thickness.is_none() => Shape::Cylinder { radius: c.radius, height: c.height },
         _ => {
             return Err(ctx.span(

@@ -5,7 +5,7 @@ use super::bodies::body;
 use super::error::{Ctx, ScenarioError, enclosing_item, in_user_words};
 use super::laws::law;
 use super::raw::{RawBody, RawFrame, RawHinge, RawRun, RawScenario};
-use super::values::{angles, angular_rate, check_finite, positive, vec3};
+use super::values::{angles, angular_rate, check_finite, check_name, positive, vec3};
 use crate::dynamics::Dynamics;
 use crate::integrate::ErrorNorm;
 use crate::kinematics::{HingeInitial, InitialConditions, RelativeTwist, initial_state};
@@ -151,16 +151,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             forbid(&run.rho_inf, "run.rho_inf")?;
             let rtol = need(&run.rtol, "run.rtol", "relative tolerance, e.g. 1e-10")?;
             let atol = need(&run.atol, "run.atol", "absolute tolerance, e.g. 1e-10")?;
-            // Hairer's codes refuse rtol ≤ 10 u (u the unit round-off): no step can be that
-            // accurate in f64, and the step size would shrink until the run stops.
-            if rtol <= MIN_RTOL
-                && let Some(x) = &run.rtol
-            {
-                return Err(ctx.span(
-                    x,
-                    format!("'run.rtol' = {rtol:e} is beyond what f64 resolves: give more than {MIN_RTOL:.1e} (1e-13 or looser is usual)"),
-                ));
-            }
+            check_rtol(ctx, run, rtol)?;
             match name {
                 "dop853" => Integrator::Dop853 { rtol, atol },
                 "dopri5" => Integrator::Dopri5 { rtol, atol },
@@ -177,6 +168,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         "generalized-alpha" => {
             let step = fixed_step(ctx, run, duration, need(&run.step, "run.step", "fixed step in s")?)?;
             let rtol = need(&run.rtol, "run.rtol", "relative tolerance of the Newton iterations, e.g. 1e-8")?;
+            check_rtol(ctx, run, rtol)?;
             let atol = need(&run.atol, "run.atol", "absolute tolerance of the Newton iterations, e.g. 1e-8")?;
             let rho_inf = match &run.rho_inf {
                 None => DEFAULT_RHO_INF,
@@ -466,10 +458,10 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     if let Some(c) = &raw.contact {
         super::contact::enable(ctx, c, &mut model, &ic)?;
     }
-    super::loads::add(ctx, &raw.loads, &mut model)?;
-    super::actuators::add_motors(ctx, &raw.motors, &mut model)?;
+    super::loads::add(ctx, &raw.loads, &mut model, duration)?;
+    super::actuators::add_motors(ctx, &raw.motors, &mut model, duration)?;
     if let Some(c) = &raw.control {
-        super::actuators::add_control(ctx, c, &mut model)?;
+        super::actuators::add_control(ctx, c, &mut model, duration)?;
     }
 
     // Every run must end: an explicit method that must follow the fastest hinge for this
@@ -521,19 +513,6 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         inputs: ctx.inputs.take(),
         warnings: ctx.warnings.take(),
     })
-}
-
-fn check_name(ctx: &Ctx<'_>, name: &Spanned<String>, what: &str) -> Result<(), ScenarioError> {
-    let n = name.get_ref();
-    if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
-        return Err(ctx.span(
-            name,
-            format!(
-                "{what} name '{n}' must be non-empty and use only letters, digits, '_' and '-' (it names CSV columns)"
-            ),
-        ));
-    }
-    Ok(())
 }
 
 fn names(bodies: &[RawBody]) -> String {
@@ -588,8 +567,36 @@ fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError
 /// a tenth of an unresolved vibration's amplitude lost per step.
 pub const DEFAULT_RHO_INF: f64 = 0.9;
 
+/// `run.rtol` between 10 u (u the unit round-off) and 1: Hairer's codes refuse rtol ≤ 10 u
+/// (no step can be that accurate in f64, and the step size would shrink until the run
+/// stops); above 1 a relative tolerance asks for no digit at all.
+fn check_rtol(ctx: &Ctx<'_>, run: &RawRun, rtol: f64) -> Result<(), ScenarioError> {
+    let Some(x) = &run.rtol else { return Ok(()) };
+    if rtol <= MIN_RTOL {
+        return Err(ctx.span(
+            x,
+            format!("'run.rtol' = {rtol:e} is beyond what f64 resolves: give more than {MIN_RTOL:.1e} (1e-13 or looser is usual)"),
+        ));
+    }
+    if rtol > 1.0 {
+        return Err(ctx.span(
+            x,
+            format!("'run.rtol' = {rtol:e} asks for no correct digit: a relative tolerance is at most 1 (1e-6 to 1e-10 is usual)"),
+        ));
+    }
+    Ok(())
+}
+
 /// A fixed step (`run.step`, s) checked against the run's duration and the step budget.
 fn fixed_step(ctx: &Ctx<'_>, run: &RawRun, duration: f64, step: f64) -> Result<f64, ScenarioError> {
+    if step > duration
+        && let Some(x) = &run.step
+    {
+        return Err(ctx.span(
+            x,
+            format!("'run.step' = {step} s is longer than run.duration = {duration} s: give a step of at most the duration (a fixed-step run ends on a whole step)"),
+        ));
+    }
     let steps = duration / step;
     if (step < MIN_STEP_OF_DURATION * duration || steps > MAX_DEFAULT_STEP_BUDGET)
         && let Some(x) = &run.step

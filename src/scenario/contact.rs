@@ -39,6 +39,20 @@ pub(super) fn enable(
     ic: &InitialConditions,
 ) -> Result<(), ScenarioError> {
     let c = raw.get_ref();
+    let shaped: Vec<&str> = model.bodies.iter().filter(|b| b.shape.is_some()).map(|b| b.name.as_str()).collect();
+    if shaped.len() < 2 {
+        return Err(ctx.span(
+            raw,
+            format!(
+                "[contact]: contact acts between bodies with a 'shape', and {}; give at least two bodies a shape (docs/contact.md) or remove [contact]",
+                match shaped.as_slice() {
+                    [] => "no body has one".to_string(),
+                    [one] => format!("only '{one}' has one"),
+                    _ => unreachable!(),
+                }
+            ),
+        ));
+    }
     let stiffness = positive(ctx, &c.stiffness, "contact.stiffness", "N/m^exponent")?;
     let exponent = match &c.exponent {
         Some(v) => within(ctx, v, "contact.exponent", 1.0, 3.0, " (1 linear, 1.5 Hertz)")?,
@@ -74,6 +88,15 @@ pub(super) fn enable(
             ids[k] = model
                 .body_index(name.get_ref())
                 .ok_or_else(|| ctx.span(name, format!("contact.exclude: no body named '{}'", name.get_ref())))?;
+        }
+        if ids[0] == ids[1] {
+            return Err(ctx.span(
+                &pair[1],
+                format!(
+                    "contact.exclude: the pair ['{0}', '{0}'] names one body twice; a body never touches itself",
+                    pair[0].get_ref()
+                ),
+            ));
         }
         excluded.push((ids[0], ids[1]));
     }

@@ -389,7 +389,7 @@ fn table(
             }
             points
         }
-        (None, Some(p)) => p.iter().map(|[q, f]| (*q, *f)).collect(),
+        (None, Some(p)) => p.iter().map(|p| (p[0], p[1])).collect(),
         _ => return Err(here("give either file = \"….csv\" or points = [[q, f], …] (SI units)".into())),
     };
     Table::new(&points, interpolation, outside).map_err(here)

@@ -2,6 +2,7 @@
 //! value checked and located.
 
 use super::error::{Ctx, ScenarioError};
+use super::values::Exact;
 use crate::loads::{Load, LoadFrame, Profile, Vector};
 use crate::math::Vec3;
 use crate::model::Model;
@@ -14,19 +15,20 @@ use toml::Spanned;
 pub(super) struct RawLoad {
     name: Spanned<String>,
     body: Spanned<String>,
-    point: Option<[f64; 3]>,
+    point: Option<Exact<f64, 3>>,
     force: Option<Spanned<toml::Value>>,
     force_frame: Option<Spanned<String>>,
     torque: Option<Spanned<toml::Value>>,
     torque_frame: Option<Spanned<String>>,
     times: Option<Spanned<Vec<f64>>>,
-    on: Option<Spanned<Vec<[f64; 2]>>>,
+    on: Option<Spanned<Vec<Exact<f64, 2>>>>,
 }
 
 /// The loads of `raw`, added to `model`.
-pub(super) fn add(ctx: &Ctx<'_>, raw: &[RawLoad], model: &mut Model) -> Result<(), ScenarioError> {
+pub(super) fn add(ctx: &Ctx<'_>, raw: &[RawLoad], model: &mut Model, duration: f64) -> Result<(), ScenarioError> {
     let mut names = std::collections::HashSet::new();
     for r in raw {
+        super::values::check_name(ctx, &r.name, "load")?;
         let name = r.name.get_ref().clone();
         if !names.insert(name.clone()) {
             return Err(ctx.span(&r.name, format!("a second load named '{name}': load names must be unique")));
@@ -108,18 +110,7 @@ pub(super) fn add(ctx: &Ctx<'_>, raw: &[RawLoad], model: &mut Model) -> Result<(
         if force.is_none() && torque.is_none() {
             return Err(ctx.span(&r.name, format!("load '{name}': give a 'force' or a 'torque' (or both)")));
         }
-        let windows = match &r.on {
-            Some(w) => {
-                let v = w.get_ref();
-                if v.iter().any(|[a, b]| !(a.is_finite() && b.is_finite() && a < b)) {
-                    return Err(
-                        ctx.span(w, format!("load '{name}': 'on' is a list of [on, off] times, s, each on < off"))
-                    );
-                }
-                v.iter().map(|[a, b]| (*a, *b)).collect()
-            }
-            None => Vec::new(),
-        };
+        let windows = super::values::windows(ctx, &r.on, &format!("load '{name}'"), duration)?;
         if r.point.is_some_and(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(ctx.span(&r.name, format!("load '{name}': 'point' must be finite, m")));
         }

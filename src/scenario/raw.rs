@@ -1,6 +1,7 @@
 //! The scenario file's structure as serde reads it, before any check: every key of
 //! `docs/scenario.md`, with its position in the file kept for errors.
 
+use super::values::Exact;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::fmt;
@@ -58,7 +59,7 @@ pub(super) struct RawContact {
     pub(super) min_impact_speed: Option<Spanned<f64>>,
     pub(super) margin: Option<Spanned<f64>>,
     pub(super) spacing: Option<Spanned<f64>>,
-    pub(super) exclude: Option<Spanned<Vec<[Spanned<String>; 2]>>>,
+    pub(super) exclude: Option<Spanned<Vec<Exact<Spanned<String>, 2>>>>,
     pub(super) allow_initial_overlap: Option<bool>,
 }
 
@@ -76,10 +77,10 @@ pub(super) struct RawBody {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawShape {
-    pub(super) polygon: Option<Vec<[f64; 3]>>,
+    pub(super) polygon: Option<Vec<Exact<f64, 3>>>,
     pub(super) thickness: Option<f64>,
     #[serde(rename = "box")]
-    pub(super) cuboid: Option<[f64; 3]>,
+    pub(super) cuboid: Option<Exact<f64, 3>>,
     pub(super) cylinder: Option<RawCylinder>,
 }
 
@@ -105,7 +106,7 @@ pub(super) struct RawHinge {
 #[derive(Deserialize, Default, Clone, Copy)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawFrame {
-    pub(super) position: Option<[f64; 3]>,
+    pub(super) position: Option<Exact<f64, 3>>,
     pub(super) yaw: Option<f64>,
     pub(super) yaw_deg: Option<f64>,
     pub(super) pitch: Option<f64>,
@@ -117,7 +118,7 @@ pub(super) struct RawFrame {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawChildFrame {
-    pub(super) child_com: [f64; 3],
+    pub(super) child_com: Exact<f64, 3>,
     pub(super) yaw: Option<f64>,
     pub(super) yaw_deg: Option<f64>,
     pub(super) pitch: Option<f64>,
@@ -192,7 +193,7 @@ pub(super) struct RawDirection {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawTable {
     pub(super) file: Option<String>,
-    pub(super) points: Option<Vec<[f64; 2]>>,
+    pub(super) points: Option<Vec<Exact<f64, 2>>>,
     pub(super) interpolation: Spanned<String>,
     pub(super) outside: Spanned<String>,
 }
@@ -241,11 +242,11 @@ pub(super) struct RawInitial {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawHubInitial {
-    pub(super) position: Option<[f64; 3]>,
-    pub(super) velocity: Option<[f64; 3]>,
-    pub(super) omega: Option<[f64; 3]>,
-    pub(super) omega_deg_s: Option<[f64; 3]>,
-    pub(super) omega_rpm: Option<[f64; 3]>,
+    pub(super) position: Option<Exact<f64, 3>>,
+    pub(super) velocity: Option<Exact<f64, 3>>,
+    pub(super) omega: Option<Exact<f64, 3>>,
+    pub(super) omega_deg_s: Option<Exact<f64, 3>>,
+    pub(super) omega_rpm: Option<Exact<f64, 3>>,
     pub(super) yaw: Option<f64>,
     pub(super) yaw_deg: Option<f64>,
     pub(super) pitch: Option<f64>,
@@ -257,11 +258,11 @@ pub(super) struct RawHubInitial {
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawHingeInitial {
-    pub(super) delta: Option<[f64; 3]>,
-    pub(super) delta_rate: Option<[f64; 3]>,
-    pub(super) omega_rel: Option<[f64; 3]>,
-    pub(super) omega_rel_deg_s: Option<[f64; 3]>,
-    pub(super) omega_rel_rpm: Option<[f64; 3]>,
+    pub(super) delta: Option<Exact<f64, 3>>,
+    pub(super) delta_rate: Option<Exact<f64, 3>>,
+    pub(super) omega_rel: Option<Exact<f64, 3>>,
+    pub(super) omega_rel_deg_s: Option<Exact<f64, 3>>,
+    pub(super) omega_rel_rpm: Option<Exact<f64, 3>>,
     pub(super) yaw: Option<f64>,
     pub(super) yaw_deg: Option<f64>,
     pub(super) pitch: Option<f64>,

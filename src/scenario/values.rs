@@ -45,7 +45,7 @@ pub(super) fn angles(
     Ok(Some(Euler321::new(y.unwrap_or(0.0), p.unwrap_or(0.0), r.unwrap_or(0.0))))
 }
 
-pub(super) fn vec3(a: Option<[f64; 3]>) -> Vec3 {
+pub(super) fn vec3(a: Option<Exact<f64, 3>>) -> Vec3 {
     a.map_or_else(Vec3::zeros, |v| Vec3::new(v[0], v[1], v[2]))
 }
 
@@ -53,9 +53,9 @@ pub(super) fn vec3(a: Option<[f64; 3]>) -> Vec3 {
 /// minute) variant, rad/s; at most one may be given; zero if none is.
 pub(super) fn angular_rate(
     key: &str,
-    rad_s: Option<[f64; 3]>,
-    deg_s: Option<[f64; 3]>,
-    rpm: Option<[f64; 3]>,
+    rad_s: Option<Exact<f64, 3>>,
+    deg_s: Option<Exact<f64, 3>>,
+    rpm: Option<Exact<f64, 3>>,
 ) -> Result<Vec3, String> {
     match (rad_s, deg_s, rpm) {
         (w, None, None) => Ok(vec3(w)),
@@ -166,4 +166,101 @@ pub(super) fn positive(ctx: &Ctx<'_>, v: &Spanned<f64>, key: &str, unit: &str) -
     } else {
         Err(ctx.span(v, format!("'{key}' must be a finite number > 0 {unit}, got {}", crate::math::short(x))))
     }
+}
+
+/// Time windows `on = [[on, off], …]` (s), each on < off, of `what` (a load, a motor): absent
+/// means always on; an empty list is refused (it would read as "never" but act always), and a
+/// window wholly outside `[0, duration]` draws a warning (it never acts).
+pub(super) fn windows(
+    ctx: &Ctx<'_>,
+    on: &Option<Spanned<Vec<Exact<f64, 2>>>>,
+    what: &str,
+    duration: f64,
+) -> Result<Vec<(f64, f64)>, ScenarioError> {
+    let Some(w) = on else { return Ok(Vec::new()) };
+    let v = w.get_ref();
+    if v.is_empty() {
+        return Err(ctx.span(
+            w,
+            format!("{what}: 'on' = [] lists no window; give [[on, off], …] times in s, or leave 'on' out to act for the whole run"),
+        ));
+    }
+    if v.iter().any(|Exact([a, b])| !(a.is_finite() && b.is_finite() && a < b)) {
+        return Err(ctx.span(w, format!("{what}: 'on' is a list of [on, off] times, s, each on < off")));
+    }
+    for Exact([a, b]) in v {
+        if *b <= 0.0 || *a >= duration {
+            ctx.warn(
+                w.span(),
+                format!("{what}: the window [{a}, {b}] s lies outside the run (0 to {duration} s) and never acts"),
+            );
+        }
+    }
+    Ok(v.iter().map(|Exact([a, b])| (*a, *b)).collect())
+}
+
+/// A list of exactly `N` items (`[x, y, z]`, an `on` pair, …): serde's fixed arrays take the
+/// first `N` of a longer TOML array and drop the rest without a word; this refuses any other
+/// length, located by the reader ("got a list of length 4, expected a list of 3 numbers [x, y, z], no more, no fewer").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Exact<T, const N: usize>(pub(super) [T; N]);
+
+impl<T, const N: usize> std::ops::Deref for Exact<T, N> {
+    type Target = [T; N];
+    fn deref(&self) -> &[T; N] {
+        &self.0
+    }
+}
+
+impl From<Exact<f64, 3>> for Vec3 {
+    fn from(a: Exact<f64, 3>) -> Vec3 {
+        Vec3::from(a.0)
+    }
+}
+
+impl<'de, T: serde::Deserialize<'de>, const N: usize> serde::Deserialize<'de> for Exact<T, N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Items<T, const N: usize>(std::marker::PhantomData<T>);
+        impl<'de, T: serde::Deserialize<'de>, const N: usize> serde::de::Visitor<'de> for Items<T, N> {
+            type Value = Exact<T, N>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                match N {
+                    3 => f.write_str("a list of 3 numbers [x, y, z], no more, no fewer"),
+                    _ => write!(f, "a list of {N} items, no more, no fewer"),
+                }
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Exact<T, N>, A::Error> {
+                let mut items = Vec::with_capacity(N);
+                while let Some(x) = seq.next_element::<T>()? {
+                    if items.len() == N {
+                        // Count the rest for the message, without keeping them.
+                        let mut len = N + 1;
+                        while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                            len += 1;
+                        }
+                        return Err(serde::de::Error::invalid_length(len, &self));
+                    }
+                    items.push(x);
+                }
+                let len = items.len();
+                items.try_into().map(Exact).map_err(|_| serde::de::Error::invalid_length(len, &self))
+            }
+        }
+        d.deserialize_seq(Items(std::marker::PhantomData))
+    }
+}
+
+/// A name that becomes part of CSV column names (a body, hinge, load, motor, wheel, thruster):
+/// non-empty, letters, digits, '_' and '-' only.
+pub(super) fn check_name(ctx: &Ctx<'_>, name: &Spanned<String>, what: &str) -> Result<(), ScenarioError> {
+    let n = name.get_ref();
+    if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        return Err(ctx.span(
+            name,
+            format!(
+                "{what} name '{n}' must be non-empty and use only letters, digits, '_' and '-' (it names CSV columns)"
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -39,6 +39,16 @@ impl Progress<'_, '_> {
                 self.step
             );
         }
+        // Each control sample ends a step: steps of about the period are held by it.
+        if let Some(period) = model.control.as_ref().and_then(|c| c.period)
+            && self.step >= 0.5 * period
+            && self.step <= period * (1.0 + 1e-9)
+        {
+            return format!(
+                "control samples: the law samples every {period:.3e} s (control.period) and each sample ends a step ({:.2e} s); a longer period shortens it",
+                self.step
+            );
+        }
         if let Some((summary, touched)) = self.dynamics.row_contact(self.y)
             && touched.iter().any(|&t| t)
         {

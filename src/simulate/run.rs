@@ -10,6 +10,7 @@ use crate::dynamics::Dynamics;
 use crate::dynamics::newton::GraphNewton;
 use crate::integrate::{Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
 use crate::kinematics::{InitialConditions, initial_state};
+use crate::loads::breaks::Breaks;
 use crate::model::Model;
 use crate::observe::Observer;
 use std::time::Instant;
@@ -77,16 +78,11 @@ pub(super) fn prepare<'m>(
     let n_events = dynamics.event_count();
     // Where the right-hand side jumps: no step passes these, and the integration restarts
     // at each.
-    let mut breaks: Vec<f64> = model
-        .loads
-        .iter()
-        .flat_map(|l| l.breaks())
-        .chain(model.motors.iter().flat_map(|m| m.breaks()))
-        .chain(model.control.iter().flat_map(|c| c.sample_times(settings.duration)))
-        .filter(|&t| t > 0.0)
-        .collect();
-    breaks.sort_by(f64::total_cmp);
-    breaks.dedup();
+    let breaks = Breaks::new(
+        model.loads.iter().flat_map(|l| l.breaks()).chain(model.motors.iter().flat_map(|m| m.breaks())).collect(),
+        model.control.as_ref().and_then(|c| c.period),
+        settings.duration,
+    );
     dynamics.set_breaks(breaks.clone());
     let implicit = matches!(settings.integrator, Integrator::Sdirk4 { .. } | Integrator::GeneralizedAlpha { .. });
     let may_be_implicit = implicit || matches!(settings.integrator, Integrator::Auto { .. });
@@ -117,7 +113,7 @@ pub(super) fn prepare<'m>(
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,
-        load_breaks: breaks.into(),
+        load_breaks: breaks,
         hinge_loads: settings.hinge_loads,
         released_at: None,
         spans: Vec::new(),

@@ -64,7 +64,7 @@ pub(super) struct RunState {
     pub(super) release_at: Option<f64>,
     /// Times at which an external load switches or its table bends, s, ascending, those not
     /// yet reached: a step ends at each (crate::loads::Load::breaks).
-    pub(super) load_breaks: std::collections::VecDeque<f64>,
+    pub(super) load_breaks: crate::loads::breaks::Breaks,
     /// Whether rows carry the locks' reactions in the hinge loads (`RunSettings::hinge_loads`).
     pub(super) hinge_loads: bool,
     /// When it let go, s.
@@ -413,10 +413,8 @@ impl StreamOut<'_, '_, '_, '_> {
             self.s.pending = None;
             return Ok(Control::Truncate { t: tr });
         }
-        while self.s.load_breaks.front().is_some_and(|&b| b <= step.t_prev + tiny) {
-            self.s.load_breaks.pop_front();
-        }
-        if let Some(&b) = self.s.load_breaks.front()
+        let next_break = self.s.load_breaks.next_after(step.t_prev + tiny);
+        if let Some(b) = next_break
             && step.t > b + tiny
         {
             // The step passes a load's switch or a bend of its table: take it again to end
@@ -452,9 +450,8 @@ impl StreamOut<'_, '_, '_, '_> {
             self.dynamics.release_restraint();
             return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
         }
-        if self.s.load_breaks.front().is_some_and(|&b| (step.t - b).abs() <= tiny) {
+        if next_break.is_some_and(|b| (step.t - b).abs() <= tiny) {
             // A load switches here: the integrator starts afresh from this state.
-            self.s.load_breaks.pop_front();
             return Ok(Control::Restart { t: step.t, y: step.y.to_vec() });
         }
         if step.t > step.t_prev && (self.dynamics.has_locks() || self.s.momenta.is_some()) {

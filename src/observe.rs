@@ -340,6 +340,9 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
     push(&mut c, "theta_B", YPR, true);
     quat(&mut c, "q_B");
     push(&mut c, "w_B", XYZ, true);
+    // The hub's MRPs for every scenario (the attitude a GNC engineer reads), not only with
+    // [control].
+    push(&mut c, "sigma_B", XYZ, true);
     for h in &model.hinges {
         push(&mut c, &format!("{}_delta", h.name), XYZ, true);
         push(&mut c, &h.name, YPR, true);
@@ -371,7 +374,6 @@ pub fn catalogue(model: &Model) -> Vec<Column> {
         one(&mut c, format!("{}_effort", m.name));
     }
     if let Some(control) = &model.control {
-        push(&mut c, "sigma_B", XYZ, true);
         one(&mut c, "pointing_error".into());
         push(&mut c, "L_req", XYZ, true);
         push(&mut c, "L", XYZ, true);
@@ -414,6 +416,7 @@ pub fn row(o: &Observation) -> Vec<f64> {
     a(&mut r, &o.hub_theta);
     r.extend_from_slice(&o.hub_quat);
     v(&mut r, &o.hub_omega_in_hub);
+    v(&mut r, &crate::math::mrp_from_quat(&crate::math::quat_relative(&o.hub_quat, &[1.0, 0.0, 0.0, 0.0])));
     for i in 0..o.hinge_theta.len() {
         v(&mut r, &o.hinge_delta_in_a0[i]);
         a(&mut r, &o.hinge_theta[i]);
@@ -443,7 +446,6 @@ pub fn row(o: &Observation) -> Vec<f64> {
     if let Some(a) = &o.actuators {
         r.extend_from_slice(&a.motor_efforts);
         if !a.efforts.is_empty() {
-            v(&mut r, &a.sigma_hub);
             r.push(a.pointing_error);
             v(&mut r, &a.required_in_hub);
             v(&mut r, &a.applied_in_hub);

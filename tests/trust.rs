@@ -208,7 +208,7 @@ fn animate_and_view_refuse_bad_rows_and_warn_of_foreign_columns() {
                 .arg("--csv")
                 .arg(&f)
                 .arg("-o")
-                .arg(dir.join("x.out"))
+                .arg(dir.join(if cmd == "animate" { "x.glb" } else { "x.html" }))
                 .output()
                 .unwrap();
             refused(&o, &[says]);

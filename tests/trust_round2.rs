@@ -186,8 +186,8 @@ fn meaningless_requests_are_refused() {
 #[test]
 fn non_finite_spins_are_errors() {
     let dir = common::tmp("trust2", "spin");
-    for cmd in ["equilibrium", "modes"] {
-        let out = dir.join(format!("{cmd}.out"));
+    for (cmd, ext) in [("equilibrium", "toml"), ("modes", "csv")] {
+        let out = dir.join(format!("{cmd}.{ext}"));
         let o = foldsim()
             .arg(cmd)
             .arg(repo("examples/radial-spin.toml"))
@@ -231,5 +231,111 @@ fn equilibrium_converges_where_folds_are_soft() {
             found.iterations, found.residual
         );
         assert!(found.iterations <= 12 && found.residual < 1e-9 && worst_yaw < 1e-9, "{found:?}");
+    }
+}
+
+/// Item 10: a shape whose inertia overflows no longer passes the check against 'inertia'
+/// (NaN compared false); a box of 1e150 m is refused, located.
+#[test]
+fn shapes_beyond_f64_are_refused() {
+    for (from, to) in [
+        ("box = [1.0, 1.0, 0.3]", "box = [1e150, 1.0, 0.3]"),
+        ("box = [1.0, 1.0, 0.3]", "box = [1e-300, 1e-300, 1e-300]"),
+    ] {
+        let e = edited("contact-panel-hub.toml", &[(from, to)]).err().unwrap_or_else(|| panic!("{to} accepted"));
+        assert!(e.contains("beyond what f64 holds") && e.contains("contact-panel-hub.toml:"), "{e}");
+    }
+}
+
+/// Item 8: modes of a design state out of balance printed NaN frequencies. Now the
+/// equilibrium nearest it is found and the report says so, or the command refuses, naming
+/// `foldsim equilibrium`; no NaN is printed and no table is left by a refusal.
+#[test]
+fn modes_never_print_nan() {
+    let dir = common::tmp("trust2", "nan");
+    let out = dir.join("m.csv");
+    let o = foldsim()
+        .arg("modes")
+        .arg(repo("examples/paper-3panel.toml"))
+        .arg("--deployed")
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert!(!t.contains("NaN"), "{t}");
+    if o.status.success() {
+        assert!(t.contains("static equilibrium nearest it"), "{t}");
+        assert!(!std::fs::read_to_string(&out).unwrap().contains("NaN"));
+    } else {
+        assert!(t.contains("foldsim equilibrium") && !out.exists(), "{t}");
+    }
+    // A z-fold out of balance at rest (its folds 30° from their rest angle): the modes are
+    // taken at the equilibrium, all finite.
+    let s = dir.join("z.toml");
+    assert!(foldsim().args(["generate", "zfold", "--panels", "3", "-o"]).arg(&s).output().unwrap().status.success());
+    let o = foldsim().arg("modes").arg(&s).arg("-o").arg(&out).output().unwrap();
+    let t = text(&o);
+    assert!(o.status.success() && t.contains("static equilibrium nearest it") && !t.contains("NaN"), "{t}");
+}
+
+/// Item 14: every argument checked before the work, and outputs named as what they hold.
+#[test]
+fn arguments_are_checked_before_any_output() {
+    let dir = common::tmp("trust2", "args");
+    let out = dir.join("m.csv");
+    let o = foldsim()
+        .arg("modes")
+        .arg(repo("examples/flasher-small.toml"))
+        .args(["--deployed", "-q", "--mode", "hub_fixed:100000", "-o"])
+        .arg(&out)
+        .arg("--view")
+        .arg(dir.join("m.html"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).contains("nothing written") && !out.exists(), "{}", text(&o));
+    let o = foldsim()
+        .arg("linearize")
+        .arg(repo("examples/paper-1panel.toml"))
+        .arg("-o")
+        .arg(dir.join("model.csv"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).contains(".npz") && !dir.join("model.csv").exists(), "{}", text(&o));
+    let o = foldsim()
+        .arg("run")
+        .arg(repo("examples/paper-1panel.toml"))
+        .arg("--csv")
+        .arg(dir.join("r.csv"))
+        .arg("--animation")
+        .arg(dir.join("a.gltf"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).contains(".glb") && !dir.join("r.csv").exists(), "{}", text(&o));
+}
+
+/// Item 11: a GNC loop steps any scenario at any dt to its end. `advance(dt)` ends spans at
+/// t + dt, which lands within round-off of the control samples (every 0.1 s) and the load
+/// windows' edges; a span whose end fell a round-off past a break took a step of 1e-16 s
+/// there and stopped ("step size fell to 2.2e-16 s" at t = 1.4). Each dt here is checked to
+/// reach the end, at the scenario's own integrator.
+#[test]
+fn stepping_reaches_the_end_at_any_dt() {
+    for (file, dts) in
+        [("zfold-attitude-hold.toml", &[0.1, 0.05, 0.3, 0.01][..]), ("flasher-spin-hold.toml", &[0.1][..])]
+    {
+        for &dt in dts {
+            let mut s = Scenario::from_file(&repo(&format!("examples/{file}"))).unwrap();
+            s.settings.duration = s.settings.duration.min(3.0);
+            s.model.commandable = true;
+            let mut stepper = foldsim::simulate::Stepper::start(&s.model, &s.initial, &s.settings).unwrap();
+            let steps = (s.settings.duration / dt).round() as usize;
+            for k in 0..steps {
+                stepper
+                    .advance(dt)
+                    .unwrap_or_else(|e| panic!("{file} dt {dt}: advance {k} from t = {}: {e}", stepper.time()));
+            }
+            assert!((stepper.time() - s.settings.duration).abs() < 1e-9, "{file} dt {dt}: t = {}", stepper.time());
+        }
     }
 }

@@ -17,7 +17,7 @@ fn matrix<'py>(py: Python<'py>, m: &nalgebra::DMatrix<f64>) -> PyResult<Bound<'p
 
 /// Where to linearise: the design state if asked, else time `at` of the run.
 fn prepare(mut s: foldsim::scenario::Scenario, at: f64, deployed: bool) -> PyResult<foldsim::scenario::Scenario> {
-    s.initial = foldsim::linear::start_for(&s.model, &s.initial, &s.settings, at, deployed)
+    s.initial = foldsim::linear::start_for(&s.model, &s.initial, &mut s.settings, at, deployed)
         .map_err(|e| PyValueError::new_err(format!("at = {e}")))?;
     Ok(s)
 }

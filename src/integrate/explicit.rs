@@ -10,7 +10,9 @@
 //! `dopri5.f` and `dop853.f` (step-size control, starting step, dense output); the
 //! coefficients are theirs. Order and dense-output accuracy are tested in this module.
 
-use super::step::{Control, DenseKind, Limits, Method, OdeError, OdeSystem, Stats, Step, announce_start, hermite};
+use super::step::{
+    Control, DenseKind, Limits, Method, OdeError, OdeSystem, Stats, Step, announce_start, before_end, hermite,
+};
 use super::tableau::{DOP853, DOPRI5, DP5_D, DP8_BHH, DP8_D, RK4, Tableau};
 
 /// Work arrays reused across steps.
@@ -125,7 +127,7 @@ fn fixed_rk4<S: OdeSystem + ?Sized, E>(
         // that grid point is landed on exactly: a step that ended a round-off past it would
         // take its last stage from after the jump (F·h/6 of a switched load's impulse lost).
         let t_next = match system.next_break(t) {
-            Some(b) if b < tf && t_next >= b - 1e-9 * step => b,
+            Some(b) if before_end(b, tf) && t_next >= b - 1e-9 * step => b,
             _ => t_next,
         };
         let t_next = forced_end.take().unwrap_or(t_next);
@@ -232,7 +234,7 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
     let (mut forced, mut non_finite) = (false, false);
     loop {
         // The step lands on the end, or on the next break of the right-hand side.
-        let stop = system.next_break(t).filter(|&b| b < tf).unwrap_or(tf);
+        let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
         let (mut last, mut landing) = (false, false);
         if t + 1.01 * h - stop > 0.0 {
             h = stop - t;

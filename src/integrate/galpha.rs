@@ -24,7 +24,7 @@
 //! `hγ (α_f/α_m)` in place of its `hγ`.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, Limits, OdeError, OdeSystem, Stats, Step, announce_start};
+use super::step::{Control, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end};
 
 /// The method's three parameters from ρ∞ (Jansen, Whiting & Hulbert, eq. 21).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -95,7 +95,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let mut forced = false;
     let mut h_prev = h;
     loop {
-        let stop = system.next_break(t).filter(|&b| b < tf).unwrap_or(tf);
+        let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
         let landing = t + 1.01 * h >= stop;
         if landing {
             h = stop - t;

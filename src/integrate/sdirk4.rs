@@ -6,7 +6,7 @@
 //! formed and factored is separate from the method.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start};
+use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end};
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -94,7 +94,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut after_rejection = false;
     loop {
         // The step lands on the end, or on the next break of the right-hand side.
-        let stop = system.next_break(t).filter(|&b| b < tf).unwrap_or(tf);
+        let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
         let landing = t + 1.01 * h >= stop;
         if landing {
             h = stop - t;

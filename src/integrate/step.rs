@@ -321,3 +321,11 @@ pub(super) fn hermite(cont: &mut [Vec<f64>], y: &[f64], y_new: &[f64], f_old: &[
         cont[3][i] = ydiff - h * f_new[i] - bspl;
     }
 }
+
+/// Whether a break at `b` (s) ends a step of its own before a span's end `tf`: not when it
+/// lies within round-off of `tf` (1e-12 relative, the breaks' own tolerance in the run), where
+/// the span's last step ends at `tf` in its stead. A span `t + dt` that lands a round-off past
+/// a control sample would otherwise leave a last step of 1e-16 s, below any step floor.
+pub fn before_end(b: f64, tf: f64) -> bool {
+    b < tf - 1e-12 * tf.abs().max(1.0)
+}

@@ -317,7 +317,12 @@ impl Equilibrium {
                 scale *= 0.5;
                 if scale < MIN_DAMPING {
                     let why = match trial {
-                        Err(m) => format!(" (a trial step: {m})"),
+                        // An iterate has no time: the dynamics' "at t = 0" would read as
+                        // the start of a run.
+                        Err(m) => format!(
+                            " (the last iterate tried: {})",
+                            m.replace(" at t = 0.000000 s", "").replace(" before t = 0.000000 s", "")
+                        ),
                         Ok(g) if !g.iter().all(|x| x.is_finite()) => " (a trial step's forces are not finite)".into(),
                         Ok(_) => String::new(),
                     };

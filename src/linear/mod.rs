@@ -236,7 +236,7 @@ pub fn design_state(model: &Model, ic: &InitialConditions) -> InitialConditions 
 pub fn start_for(
     model: &Model,
     ic: &InitialConditions,
-    settings: &RunSettings,
+    settings: &mut RunSettings,
     at: f64,
     deployed: bool,
 ) -> Result<InitialConditions, String> {
@@ -245,6 +245,17 @@ pub fn start_for(
     }
     if deployed && at > 0.0 {
         return Err(format!("{at} s: the design state is taken as it is, not at a time of a run"));
+    }
+    if deployed {
+        // The design state is free of the launch restraint, which holds the stowed package.
+        settings.release_at = None;
+    }
+    if let Some(release) = settings.release_at
+        && at < release
+    {
+        return Err(format!(
+            "{at} s: the launch restraint holds every tree hinge until run.release_at = {release} s, so the structure has no motion of its own there; give a time at or after the release (--at {release}) or the design state (--deployed)"
+        ));
     }
     Ok(if deployed { design_state(model, ic) } else { ic.clone() })
 }
@@ -260,6 +271,26 @@ pub struct Where {
     pub dcm_n_b: Vec<Mat3>,
     /// The largest body rate, rad/s, and velocity, m/s, there.
     pub largest_rates: (f64, f64),
+    /// When the state asked for was at rest but out of balance: the static equilibrium
+    /// nearest it was found and taken instead, with this many Newton iterations, the bodies
+    /// moved up to this far (m), and this largest acceleration at the state asked for
+    /// (m/s² or rad/s²).
+    pub balanced: Option<(usize, f64, f64)>,
+}
+
+/// Whether `lin`'s residual acceleration is out of balance: above 1e-8 of the largest
+/// stiffness (the diagonal of J_x, 1/s²) times the structure's size (m), with a floor of
+/// 1e-12 m/s². The round-off of the hinge forces is ~1e-16 of that.
+fn out_of_balance(lin: &Linearization, positions: &[Vec3]) -> bool {
+    let stiffest = lin
+        .blocks
+        .iter()
+        .enumerate()
+        .filter_map(|(i, row)| row.get(&i))
+        .map(|(bx, _)| (0..6).map(|k| bx[(k, k)].abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    let size = positions.iter().map(|r| (r - positions[0]).norm()).fold(1e-3, f64::max);
+    lin.residual > (1e-8 * stiffest * size).max(1e-12)
 }
 
 /// The linear model of `model` at time `at` (s) of its run from `ic` with `settings` (at its
@@ -274,9 +305,34 @@ pub fn linearize_at(
     if at > 0.0 {
         stepper.advance(at).map_err(|e| e.to_string())?;
     }
-    let y = stepper.state();
-    let lin = Linearization::at(stepper.dynamics(), y, Vec3::zeros())?;
-    let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i)).collect();
+    let mut y = stepper.state().to_vec();
+    let mut lin = Linearization::at(stepper.dynamics(), &y, Vec3::zeros())?;
+    let positions =
+        |y: &[f64]| (0..model.bodies.len()).map(|i| BodyMotion::from_state(y, i).r_in_n).collect::<Vec<_>>();
+    let at_rest = (0..model.bodies.len()).all(|i| {
+        let m = BodyMotion::from_state(&y, i);
+        m.omega_in_n.norm() == 0.0 && m.v_in_n.norm() == 0.0
+    });
+    let mut balanced = None;
+    if at_rest && out_of_balance(&lin, &positions(&y)) {
+        // Modes about a state out of balance are no modes (its stiffness is not that of a
+        // vibration about it: negative ω², NaN frequencies): the equilibrium nearest it.
+        let d = stepper.dynamics();
+        let force_scale = model.bodies.iter().map(|b| b.mass.max(b.inertia_in_body.amax())).fold(0.0, f64::max);
+        let found = equilibrium::Equilibrium::near(d, &y, 1e-10 * force_scale * lin.residual.min(1.0).max(1e-3), 50)
+            .map_err(|e| {
+                format!(
+                    "the state at t = {} s is at rest but out of balance (largest acceleration {:.3e} m/s² or rad/s²), and the search for the equilibrium nearest it failed: {e}. Modes are vibrations about an equilibrium: find one (`foldsim equilibrium`, from a state nearer it) and start the scenario there",
+                    stepper.time(),
+                    lin.residual
+                )
+            })?;
+        d.accept(stepper.time(), &found.y)?;
+        balanced = Some((found.iterations, found.moved, lin.residual));
+        y = found.y;
+        lin = Linearization::at(d, &y, Vec3::zeros())?;
+    }
+    let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(&y, i)).collect();
     let largest_rates =
         motions.iter().fold((0.0f64, 0.0f64), |(w, v), m| (w.max(m.omega_in_n.norm()), v.max(m.v_in_n.norm())));
     Ok((
@@ -286,6 +342,7 @@ pub fn linearize_at(
             positions: motions.iter().map(|m| m.r_in_n).collect(),
             dcm_n_b: motions.iter().map(|m| m.dcm_n_b).collect(),
             largest_rates,
+            balanced,
         },
     ))
 }

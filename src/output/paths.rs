@@ -18,6 +18,25 @@ pub fn partial_path(path: &Path) -> PathBuf {
     PathBuf::from(partial)
 }
 
+/// The animation's extension and format, for [`check_extension`].
+pub const GLB: (&str, &str) = ("glb", "binary glTF");
+/// The viewer page's.
+pub const HTML: (&str, &str) = ("html", "a viewer page (HTML)");
+
+/// Refuses an output whose name says another format than the one written (`ext`, without
+/// the dot; `format` names it): `model.csv` for a NumPy archive, `out.gltf` for binary glTF.
+/// A name without an extension (a device, a pipe) is taken as it is.
+pub fn check_extension(flag: &str, path: &Path, ext: &str, format: &str) -> Result<(), String> {
+    match path.extension().map(|e| e.to_string_lossy().to_lowercase()) {
+        Some(e) if e != ext => Err(format!(
+            "{flag} {}: this writes {format}, which a .{e} file is not{}; name it .{ext}",
+            path.display(),
+            if e == "gltf" { " (glTF JSON with its buffers apart)" } else { "" }
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Whether `path` exists and is neither a regular file nor a directory (a device or a pipe).
 pub fn is_special(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
@@ -116,6 +135,16 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn extensions_say_the_format() {
+        assert!(check_extension("-o", Path::new("m.npz"), "npz", "a NumPy archive").is_ok());
+        assert!(check_extension("-o", Path::new("M.NPZ"), "npz", "a NumPy archive").is_ok());
+        assert!(check_extension("-o", Path::new("/dev/null"), "npz", "a NumPy archive").is_ok());
+        let e = check_extension("--animation", Path::new("a.gltf"), "glb", "binary glTF").unwrap_err();
+        assert!(e.contains("a.gltf") && e.contains(".glb"), "{e}");
+        assert!(check_extension("-o", Path::new("model.csv"), "npz", "a NumPy archive").is_err());
+    }
 
     #[test]
     fn spellings_of_one_file_are_one_output() {

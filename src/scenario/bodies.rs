@@ -47,6 +47,21 @@ pub(super) fn body(ctx: &Ctx<'_>, b: &RawBody) -> Result<Body, ScenarioError> {
             // properties, scaled by mass / unit mass.
             let unit = s.mass_properties(1.0);
             let size = s.outline().iter().map(|p| p.norm()).fold(0.0, f64::max);
+            // A shape too large (or too small) for f64: its volume or inertia overflows, and
+            // every check against it below would pass on NaN.
+            if !(unit.mass > 0.0
+                && unit.mass.is_finite()
+                && unit.inertia_about_centroid.iter().all(|x| x.is_finite())
+                && unit.inertia_about_centroid.trace() > 0.0)
+            {
+                return Err(here(
+                    sp.span(),
+                    format!(
+                        "the shape (extent {size:e} m) has a volume or inertia beyond what f64 holds ({:e} per unit density): give its sizes in metres, between about 1e-30 and 1e30",
+                        unit.mass
+                    ),
+                ));
+            }
             if unit.centroid.norm() > AGREE * size {
                 let c = unit.centroid;
                 return Err(here(
@@ -94,6 +109,14 @@ pub(super) fn body(ctx: &Ctx<'_>, b: &RawBody) -> Result<Body, ScenarioError> {
                 }
             };
             let from_shape = unit.inertia_about_centroid * (mass / unit.mass);
+            if !from_shape.iter().all(|x| x.is_finite()) || !mass.is_finite() {
+                return Err(here(
+                    sp.span(),
+                    format!(
+                        "the shape's mass {mass:e} kg and inertia are beyond what f64 holds: give a smaller density or size"
+                    ),
+                ));
+            }
             if let (Some(i), Some(v)) = (inertia, &b.inertia)
                 && (i - from_shape).abs().max() > AGREE * from_shape.abs().max()
             {

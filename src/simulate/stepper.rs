@@ -157,24 +157,42 @@ impl<'m> Stepper<'m> {
     /// Sets the torque on `body` (index) from now on, N·m in `frame`, replacing the one set
     /// before (crate::dynamics::Dynamics::command_torque).
     pub fn set_torque(&mut self, body: usize, torque: Vec3, frame: LoadFrame) -> Result<(), String> {
+        finite("set_torque: the torque, N·m", torque.as_slice())?;
         self.dynamics.command_torque(body, torque, frame)
     }
 
     /// Sets the force on `body` (index) from now on, N in `frame`, at `point_in_body` (m from
     /// its centre of mass, body frame), replacing the one set before.
     pub fn set_force(&mut self, body: usize, force: Vec3, point_in_body: Vec3, frame: LoadFrame) -> Result<(), String> {
+        finite("set_force: the force, N", force.as_slice())?;
+        finite("set_force: the point, m", point_in_body.as_slice())?;
         self.dynamics.command_force(body, force, point_in_body, frame)
     }
 
     /// Sets motor `motor`'s (index) effort from now on (N or N·m); `None` gives it back to
     /// its drive.
     pub fn set_motor(&mut self, motor: usize, effort: Option<f64>) -> Result<(), String> {
+        if let Some(e) = effort {
+            finite("set_motor: the effort, N or N·m", &[e])?;
+        }
         self.dynamics.command_motor(motor, effort)
     }
 
     /// Sets the control's actuator efforts from now on (N·m, one per wheel or torque
     /// source); `None` gives them back to the control law.
     pub fn set_actuators(&mut self, efforts: Option<Vec<f64>>) -> Result<(), String> {
+        if let Some(u) = &efforts {
+            finite("set_wheel_torque: the torques, N·m", u)?;
+        }
         self.dynamics.command_actuators(efforts)
+    }
+}
+
+/// A command refused at the call when any of its numbers is not finite (the next step would
+/// otherwise fail and blame the hinges).
+fn finite(what: &str, values: &[f64]) -> Result<(), String> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(format!("{what}: every number must be finite, got {v}")),
+        None => Ok(()),
     }
 }

@@ -29,7 +29,7 @@ from ._foldsim import Scenario as _Scenario
 from ._foldsim import __version__
 from .sweeps import sweep
 
-__all__ = ["Result", "Scenario", "Simulation", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
+__all__ = ["Result", "Scenario", "Simulation", "State", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
 
 
 class Result:
@@ -196,6 +196,29 @@ def _vector(value, what: str) -> list[float]:
     return v
 
 
+class State(dict):
+    """Every output column at one time, by name (docs/outputs.md). A name that is not there
+    raises KeyError naming the closest ones; :meth:`vector` gathers a vector's columns."""
+
+    def __missing__(self, key):
+        import difflib
+
+        close = difflib.get_close_matches(str(key), list(self), n=5, cutoff=0.5)
+        hint = f"; the closest are {', '.join(close)}" if close else ""
+        raise KeyError(f"no column {key!r}{hint} (docs/outputs.md lists every column)")
+
+    def vector(self, prefix: str) -> "np.ndarray":
+        """The columns ``prefix_w/_x/_y/_z`` (a quaternion) or ``prefix_x/_y/_z`` as a NumPy
+        array, in that order: ``state.vector("q_B")``, ``state.vector("w_B")``."""
+        for parts in (("w", "x", "y", "z"), ("x", "y", "z")):
+            names = [f"{prefix}_{p}" for p in parts]
+            if all(n in self for n in names):
+                return np.array([self[n] for n in names])
+        for n in (f"{prefix}_x", f"{prefix}_w"):
+            self[n]  # KeyError naming the closest columns
+        raise KeyError(f"{prefix!r} has no _x/_y/_z or _w/_x/_y/_z columns")
+
+
 class Simulation:
     """A run advanced piece by piece, for a controller outside foldsim (docs/gnc.md).
 
@@ -218,10 +241,26 @@ class Simulation:
         return self._native.t
 
     @property
-    def state(self) -> dict[str, float]:
+    def state(self) -> State:
         """Every output column at the time reached (docs/outputs.md), by name:
-        ``sim.state["H_z"]``, the hub's quaternion ``q_B_w`` … ``q_B_z``, rates ``w_B_*``."""
-        return self._native.state()
+        ``sim.state["H_z"]``, the hub's quaternion ``q_B_w`` … ``q_B_z``, rates ``w_B_*``,
+        MRPs ``sigma_B_*``; ``sim.state.vector("q_B")`` as a NumPy array."""
+        return State(self._native.state())
+
+    @property
+    def hub_attitude(self) -> "np.ndarray":
+        """The hub's attitude quaternion ``[w, x, y, z]`` (N to hub, scalar first)."""
+        return self.state.vector("q_B")
+
+    @property
+    def hub_mrp(self) -> "np.ndarray":
+        """The hub's MRPs ``σ_{B/N}``, the short way round."""
+        return self.state.vector("sigma_B")
+
+    @property
+    def hub_rates(self) -> "np.ndarray":
+        """The hub's angular velocity ``ω_{B/N}``, rad/s, hub components."""
+        return self.state.vector("w_B")
 
     def advance(self, dt: float) -> None:
         """Integrates to exactly t + dt (s) with the scenario's adaptive integrator."""

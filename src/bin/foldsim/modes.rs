@@ -40,13 +40,28 @@ fn open(
     choice: &Choice,
 ) -> Result<(foldsim::scenario::Scenario, PathBuf), String> {
     let mut scenario = foldsim::scenario::Scenario::from_file(path).map_err(|e| e.to_string())?;
-    scenario.initial =
-        foldsim::linear::start_for(&scenario.model, &scenario.initial, &scenario.settings, choice.at, choice.deployed)
-            .map_err(|e| format!("--at {e}"))?;
+    scenario.initial = foldsim::linear::start_for(
+        &scenario.model,
+        &scenario.initial,
+        &mut scenario.settings,
+        choice.at,
+        choice.deployed,
+    )
+    .map_err(|e| format!("--at {e}"))?;
     let target = output.unwrap_or_else(|| {
         let stem = path.file_stem().map_or_else(|| "foldsim".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}{suffix}"))
     });
+    let ext = Path::new(suffix).extension().map_or(String::new(), |e| e.to_string_lossy().into_owned());
+    let format = match ext.as_str() {
+        "npz" => "a NumPy archive (.npz)",
+        "csv" => "a CSV table",
+        _ => "TOML",
+    };
+    foldsim::output::paths::check_extension("-o", &target, &ext, format)?;
+    for (flag, p) in extra {
+        foldsim::output::paths::check_extension(flag, p, "html", "a viewer page (HTML)")?;
+    }
     let mut outputs: Vec<(&str, &Path)> = vec![("-o", &target)];
     outputs.extend_from_slice(extra);
     check_outputs(&scenario.inputs, &outputs)?;
@@ -84,6 +99,15 @@ pub(crate) fn modes(
         None => Modes::of(&lin, &here.positions, &here.dcm_n_b)?,
     };
     let solve_seconds = started.elapsed().as_secs_f64();
+    let unstable: Vec<f64> =
+        modes.free.iter().chain(&modes.hub_fixed).filter(|m| !m.omega.is_finite()).map(|m| m.eigenvalue).collect();
+    if !unstable.is_empty() {
+        return Err(format!(
+            "{} modes have no real frequency (ω² down to {:.3e} s⁻²): the state is no stable equilibrium (a buckling load, or a moving state whose stiffness is not a vibration's); take the modes at an equilibrium (`foldsim equilibrium`, or --deployed)",
+            unstable.len(),
+            unstable.iter().copied().fold(f64::INFINITY, f64::min)
+        ));
+    }
     let mut table = String::from(HEADER);
     table.push('\n');
     for (i, m) in modes.free.iter().enumerate() {
@@ -92,17 +116,26 @@ pub(crate) fn modes(
     for (i, m) in modes.hub_fixed.iter().enumerate() {
         row(&mut table, "hub_fixed", i, m);
     }
+    // The mode to show is checked before anything is written: a refusal leaves no table.
+    let page_mode = match &view {
+        Some(page) => {
+            let set = if shown.0 { &modes.hub_fixed } else { &modes.free };
+            let m = set.get(shown.1).ok_or_else(|| {
+                format!(
+                    "--mode {}:{}: the table has {} {} modes (index 0 to {}); nothing written",
+                    if shown.0 { "hub_fixed" } else { "free" },
+                    shown.1,
+                    set.len(),
+                    if shown.0 { "hub_fixed" } else { "free" },
+                    set.len().saturating_sub(1)
+                )
+            })?;
+            Some((page, m))
+        }
+        None => None,
+    };
     write_atomically(&target, table.as_bytes())?;
-    if let Some(page) = &view {
-        let set = if shown.0 { &modes.hub_fixed } else { &modes.free };
-        let m = set.get(shown.1).ok_or_else(|| {
-            format!(
-                "--mode: the table has {} {} modes (index 0 to {})",
-                set.len(),
-                if shown.0 { "hub_fixed" } else { "free" },
-                set.len().saturating_sub(1)
-            )
-        })?;
+    if let Some((page, m)) = page_mode {
         mode_page(path, &scenario, m, shown.0, page)?;
         if !quiet {
             outln!(
@@ -125,6 +158,11 @@ pub(crate) fn modes(
         6 * lin.bodies,
         lin.residual
     );
+    if let Some((iterations, moved, residual)) = here.balanced {
+        outln!(
+            "  note: that state is at rest but out of balance (largest acceleration {residual:.3e}): the modes are taken at the static equilibrium nearest it ({iterations} Newton iterations, bodies moved up to {moved:.3e} m; `foldsim equilibrium` writes it)"
+        );
+    }
     let (w, v) = here.largest_rates;
     if w > 0.0 || v > 0.0 {
         outln!(

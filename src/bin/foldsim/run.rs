@@ -60,6 +60,14 @@ pub(crate) fn run(
         outputs.push(("--view", page));
     }
     check_outputs(&scenario.inputs, &outputs)?;
+    // Then each named as what it holds (after the checks against overwriting an input).
+    use foldsim::output::paths::{GLB, HTML, check_extension};
+    if let Some((glb, _)) = &animation {
+        check_extension("--animation", glb, GLB.0, GLB.1)?;
+    }
+    if let Some((page, _)) = page {
+        check_extension("--view", page, HTML.0, HTML.1)?;
+    }
     let settings = &foldsim::simulate::RunSettings { hinge_loads: columns.has_hinge_loads(), ..scenario.settings };
     let rows = (settings.duration / settings.output_step).floor() + 2.0;
     let bytes = rows * columns.names.len() as f64 * BYTES_PER_FIELD;

@@ -14,6 +14,7 @@ pub(crate) fn finished_run(
     csv: &Path,
     output: &Path,
     fps: Option<f64>,
+    format: (&str, &str),
 ) -> Result<(Scenario, foldsim::output::animation::Table, Frames, Vec<usize>), String> {
     use foldsim::output::animation::{Table, frames_from_table};
     let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
@@ -21,6 +22,7 @@ pub(crate) fn finished_run(
     let mut inputs = scenario.inputs.clone();
     inputs.push(csv.to_path_buf());
     check_outputs(&inputs, &[("-o", output)])?;
+    foldsim::output::paths::check_extension("-o", output, format.0, format.1)?;
     let table = Table::read(csv)?;
     let (frames, kept, warnings) =
         frames_from_table(&scenario.model, &table, fps).map_err(|m| format!("{}: {m}", csv.display()))?;
@@ -33,7 +35,7 @@ pub(crate) fn finished_run(
 /// `foldsim animate`: the animation of a finished run from its CSV's body columns.
 #[cfg(feature = "animation")]
 pub(crate) fn animate(scenario_path: &Path, csv: &Path, output: &Path, fps: Option<f64>) -> Result<(), String> {
-    let (scenario, _, frames, _) = finished_run(scenario_path, csv, output, fps)?;
+    let (scenario, _, frames, _) = finished_run(scenario_path, csv, output, fps, foldsim::output::paths::GLB)?;
     write_animation(&scenario.model, &frames, output, false)
 }
 
@@ -46,7 +48,7 @@ pub(crate) fn view(
     fps: Option<f64>,
     columns: &[String],
 ) -> Result<(), String> {
-    let (scenario, table, frames, kept) = finished_run(scenario_path, csv, output, fps)?;
+    let (scenario, table, frames, kept) = finished_run(scenario_path, csv, output, fps, foldsim::output::paths::HTML)?;
     write_page(scenario_path, &scenario, &table, &frames, &kept, columns, output)
 }
 

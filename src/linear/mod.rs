@@ -318,8 +318,10 @@ pub fn linearize_at(
         // Modes about a state out of balance are no modes (its stiffness is not that of a
         // vibration about it: negative ω², NaN frequencies): the equilibrium nearest it.
         let d = stepper.dynamics();
+        // Balanced to 1e-9 m/s² times the heaviest body's mass or inertia (N, N·m): above
+        // the round-off of stiff hinges' forces (1e-16 of 1e6 N/m times a metre).
         let force_scale = model.bodies.iter().map(|b| b.mass.max(b.inertia_in_body.amax())).fold(0.0, f64::max);
-        let found = equilibrium::Equilibrium::near(d, &y, 1e-10 * force_scale * lin.residual.min(1.0).max(1e-3), 50)
+        let found = equilibrium::Equilibrium::near(d, &y, 1e-9 * force_scale, 50)
             .map_err(|e| {
                 format!(
                     "the state at t = {} s is at rest but out of balance (largest acceleration {:.3e} m/s² or rad/s²), and the search for the equilibrium nearest it failed: {e}. Modes are vibrations about an equilibrium: find one (`foldsim equilibrium`, from a state nearer it) and start the scenario there",

@@ -339,3 +339,31 @@ fn stepping_reaches_the_end_at_any_dt() {
         }
     }
 }
+
+/// Item 9: with a sampled law, the row at a sample instant showed the previous period's
+/// torque while the dynamics already used the new one (0.69 N·m apart against Basilisk).
+/// Now `L_req` at every sample row is the law of that row's own state, `−K σ − P ω`
+/// (docs/gnc.md), to round-off (1e-12 N·m: the law's arithmetic on the row's values); rows
+/// between samples hold the last sample's value.
+#[test]
+fn sampled_control_rows_show_the_torque_that_acts_from_them() {
+    let s = edited("zfold-attitude-hold.toml", &[("duration = 30.0", "duration = 2.0")]).unwrap();
+    let (table, _, _) = common::run(&s);
+    let col = |n: &str| table.col(n);
+    let (k, p) = (80.0, 150.0);
+    let mut worst: f64 = 0.0;
+    let mut samples = 0;
+    for r in &table.rows {
+        let t = r[col("t")];
+        if (t / 0.1 - (t / 0.1).round()).abs() > 1e-6 {
+            continue;
+        }
+        samples += 1;
+        for a in ["x", "y", "z"] {
+            let law = -(k * r[col(&format!("sigma_B_{a}"))] + p * r[col(&format!("w_B_{a}"))]);
+            worst = worst.max((r[col(&format!("L_req_{a}"))] - law).abs());
+        }
+    }
+    println!("{samples} sample rows: largest |L_req − law(row)| {worst:.2e} N·m");
+    assert!(samples >= 20 && worst < 1e-12, "{worst:e} over {samples} rows");
+}

@@ -80,3 +80,47 @@ def test_commands_are_checked():
         sim.set_wheel_torque([0.1])
     with pytest.raises(RuntimeError, match="run.duration"):
         sim.advance(5.0)
+
+
+def test_non_finite_commands_are_refused_at_the_call():
+    """NaN or inf in a command is refused where it is given, not blamed on the hinges at the
+    next advance (issue 33, item 16)."""
+    sim = three_panel().start()
+    bad = [float("nan"), float("inf"), -float("inf")]
+    for x in bad:
+        with pytest.raises(ValueError, match="finite"):
+            sim.set_torque("hub", [0.0, x, 0.0], frame="body")
+        with pytest.raises(ValueError, match="finite"):
+            sim.set_force("p1", [x, 0.0, 0.0], frame="inertial")
+        with pytest.raises(ValueError, match="finite"):
+            sim.set_force("p1", [1.0, 0.0, 0.0], frame="inertial", point=[0.0, x, 0.0])
+    sim.advance(0.1)  # the refused commands left nothing behind
+    hold = foldsim.load(ROOT / "examples" / "zfold-attitude-hold.toml").start()
+    with pytest.raises(ValueError, match="finite"):
+        hold.set_wheel_torque([0.0, float("nan"), 0.0])
+
+
+def test_state_names_the_closest_columns_and_gives_vectors():
+    sim = three_panel().start()
+    with pytest.raises(KeyError, match="q_B_w"):
+        sim.state["q_B_W"]
+    s = sim.state
+    assert s.vector("q_B").shape == (4,) and s.vector("w_B").shape == (3,)
+    np.testing.assert_array_equal(sim.hub_attitude, [s[f"q_B_{a}"] for a in "wxyz"])
+    np.testing.assert_array_equal(sim.hub_rates, [s[f"w_B_{a}"] for a in "xyz"])
+    # The hub's MRPs in every scenario (no [control] here), as the short way round of q_B.
+    q = sim.hub_attitude
+    q = q if q[0] >= 0 else -q
+    np.testing.assert_allclose(sim.hub_mrp, q[1:] / (1.0 + q[0]), rtol=0, atol=1e-15)
+
+
+def test_a_loop_steps_a_sampled_controller_to_the_end():
+    """advance(0.1) lands within round-off of the 10 Hz control samples; it stopped at
+    t = 1.4 ("step size fell to 2.2e-16 s"). Now every dt reaches the end (item 11)."""
+    s = foldsim.load(ROOT / "examples" / "zfold-attitude-hold.toml").with_values({"run.duration": 2.0})
+    for dt in (0.1, 0.3 / 7.0):
+        sim = s.start()
+        n = round(2.0 / dt)
+        for _ in range(n):
+            sim.advance(dt)
+        assert abs(sim.t - 2.0) < 1e-9

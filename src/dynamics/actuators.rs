@@ -190,6 +190,10 @@ impl Dynamics<'_> {
         if model.motors.is_empty() && model.control.is_none() {
             return None;
         }
+        // A row at a sample instant shows what acts from that instant: the new sample (taken
+        // here from the row's state if the step's acceptance has not taken it yet; the same
+        // sample, at the same time and state).
+        self.sample_control(t, y);
         let refs = self.theta_refs();
         let memory = self.actuators.borrow();
         let motor_efforts = model

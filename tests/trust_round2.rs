@@ -367,3 +367,41 @@ fn sampled_control_rows_show_the_torque_that_acts_from_them() {
     println!("{samples} sample rows: largest |L_req − law(row)| {worst:.2e} N·m");
     assert!(samples >= 20 && worst < 1e-12, "{worst:e} over {samples} rows");
 }
+
+/// Item 13: `modes --count N` on small structures (Lanczos's basis of 18 vectors failed to
+/// converge on 12 coordinates: now every mode densely, the lowest kept), and scenarios with a
+/// launch restraint: `--deployed` drops it, a time before the release is refused naming it.
+#[test]
+fn modes_of_small_and_restrained_structures() {
+    let dir = common::tmp("trust2", "count");
+    let out = dir.join("m.csv");
+    for e in ["paper-1panel", "paper-3panel-euler", "contact-zfold", "contact-panel-hub"] {
+        let o = foldsim()
+            .arg("modes")
+            .arg(repo(&format!("examples/{e}.toml")))
+            .args(["--count", "3", "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let t = text(&o);
+        assert!(o.status.success() && !t.contains("NaN"), "{e}: {t}");
+        let rows = std::fs::read_to_string(&out).unwrap();
+        assert_eq!(rows.lines().filter(|l| l.starts_with("free,")).count(), 3, "{e}: {rows}");
+        assert_eq!(rows.lines().filter(|l| l.starts_with("hub_fixed,")).count(), 3, "{e}: {rows}");
+    }
+    let s = dir.join("restrained.toml");
+    let o = foldsim()
+        .args(["generate", "flasher", "--gores", "4", "--rings", "2", "--release-at", "0.5", "-o"])
+        .arg(&s)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let o = foldsim().arg("modes").arg(&s).args(["--deployed", "-q", "-o"]).arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let o =
+        foldsim().arg("linearize").arg(&s).args(["--deployed", "-q", "-o"]).arg(dir.join("m.npz")).output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let o = foldsim().arg("modes").arg(&s).args(["-o"]).arg(&out).output().unwrap();
+    let t = text(&o);
+    assert!(!o.status.success() && t.contains("release_at = 0.5") && t.contains("--deployed"), "{t}");
+}

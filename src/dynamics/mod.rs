@@ -195,6 +195,14 @@ impl<'m> Dynamics<'m> {
         self.theta_refs.borrow()
     }
 
+    /// Puts back the angle references and law memories read before with [`Self::theta_refs`]
+    /// and [`Self::memories`]: a search that accepted trial states (the equilibrium's
+    /// Newton) leaves the dynamics as it found them.
+    pub fn restore_history(&self, refs: Vec<Euler321>, memories: Vec<LawMemory>) {
+        *self.theta_refs.borrow_mut() = refs;
+        *self.memories.borrow_mut() = memories;
+    }
+
     /// The hinge laws' current memory.
     pub fn memories(&self) -> std::cell::Ref<'_, Vec<LawMemory>> {
         self.memories.borrow()

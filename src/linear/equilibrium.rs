@@ -225,6 +225,23 @@ impl Equilibrium {
         tolerance: f64,
         max_iterations: usize,
     ) -> Result<Self, String> {
+        // On failure the dynamics' angle branches and memories are as they were (the search
+        // accepted its iterates).
+        let history = (dynamics.theta_refs().clone(), dynamics.memories().clone());
+        let found = Self::search(dynamics, y0, spin, tolerance, max_iterations);
+        if found.is_err() {
+            dynamics.restore_history(history.0, history.1);
+        }
+        found
+    }
+
+    fn search(
+        dynamics: &Dynamics<'_>,
+        y0: &[f64],
+        spin: Vec3,
+        tolerance: f64,
+        max_iterations: usize,
+    ) -> Result<Self, String> {
         let model = dynamics.model();
         if model.has_work() {
             return Err("an equilibrium of a structure with loads, motors or control: remove them (the structure's own balance is what is solved for)".into());

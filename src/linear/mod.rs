@@ -276,6 +276,9 @@ pub struct Where {
     /// moved up to this far (m), and this largest acceleration at the state asked for
     /// (m/s² or rad/s²).
     pub balanced: Option<(usize, f64, f64)>,
+    /// When the state asked for was at rest, out of balance, and no equilibrium was found
+    /// near it: why (the state is then taken as it is).
+    pub unbalanced: Option<String>,
 }
 
 /// Whether `lin`'s residual acceleration is out of balance: above 1e-8 of the largest
@@ -313,7 +316,7 @@ pub fn linearize_at(
         let m = BodyMotion::from_state(&y, i);
         m.omega_in_n.norm() == 0.0 && m.v_in_n.norm() == 0.0
     });
-    let mut balanced = None;
+    let (mut balanced, mut unbalanced) = (None, None);
     if at_rest && out_of_balance(&lin, &positions(&y)) {
         // Modes about a state out of balance are no modes (its stiffness is not that of a
         // vibration about it: negative ω², NaN frequencies): the equilibrium nearest it.
@@ -321,18 +324,23 @@ pub fn linearize_at(
         // Balanced to 1e-9 m/s² times the heaviest body's mass or inertia (N, N·m): above
         // the round-off of stiff hinges' forces (1e-16 of 1e6 N/m times a metre).
         let force_scale = model.bodies.iter().map(|b| b.mass.max(b.inertia_in_body.amax())).fold(0.0, f64::max);
-        let found = equilibrium::Equilibrium::near(d, &y, 1e-9 * force_scale, 50)
-            .map_err(|e| {
-                format!(
-                    "the state at t = {} s is at rest but out of balance (largest acceleration {:.3e} m/s² or rad/s²), and the search for the equilibrium nearest it failed: {e}. Modes are vibrations about an equilibrium: find one (`foldsim equilibrium`, from a state nearer it) and start the scenario there",
+        match equilibrium::Equilibrium::near(d, &y, 1e-9 * force_scale, 50) {
+            Ok(found) => {
+                d.accept(stepper.time(), &found.y)?;
+                balanced = Some((found.iterations, found.moved, lin.residual));
+                y = found.y;
+                lin = Linearization::at(d, &y, Vec3::zeros())?;
+            }
+            Err(e) => {
+                // The state as it is: the modes of its configuration, with the reason.
+                d.accept(stepper.time(), &y)?;
+                unbalanced = Some(format!(
+                    "the state at t = {} s is at rest but out of balance (largest acceleration {:.3e} m/s² or rad/s²), and the search for the equilibrium nearest it failed: {e}",
                     stepper.time(),
                     lin.residual
-                )
-            })?;
-        d.accept(stepper.time(), &found.y)?;
-        balanced = Some((found.iterations, found.moved, lin.residual));
-        y = found.y;
-        lin = Linearization::at(d, &y, Vec3::zeros())?;
+                ));
+            }
+        }
     }
     let motions: Vec<BodyMotion> = (0..model.bodies.len()).map(|i| BodyMotion::from_state(&y, i)).collect();
     let largest_rates =
@@ -345,6 +353,7 @@ pub fn linearize_at(
             dcm_n_b: motions.iter().map(|m| m.dcm_n_b).collect(),
             largest_rates,
             balanced,
+            unbalanced,
         },
     ))
 }

@@ -172,6 +172,15 @@ impl Modes {
         if lin.bodies < 2 {
             return Err("a structure of one body has no modes but its rigid motion".into());
         }
+        if lin.bodies <= DENSE_FOR_LOWEST {
+            // A small structure: every mode by the dense solver, the lowest kept (Lanczos's
+            // basis would be as large as the problem, and fail to separate its modes).
+            let mut all = Self::of(lin, positions, dcm_n_b)?;
+            let rigid = all.free.iter().filter(|m| m.rigid).count();
+            all.free.truncate(rigid + count);
+            all.hub_fixed.truncate(count);
+            return Ok(all);
+        }
         let (k, c, m) = lin.blocks_kcm();
         let ratios: Vec<f64> = (0..lin.bodies)
             .flat_map(|i| (0..6).map(move |a| (i, a)))
@@ -231,6 +240,10 @@ impl Modes {
         Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry: f64::NAN })
     }
 }
+
+/// Bodies up to which [`Modes::lowest`] takes every mode densely and keeps the lowest (a
+/// dense eigenproblem of 360 coordinates takes milliseconds).
+pub const DENSE_FOR_LOWEST: usize = 60;
 
 /// A shift for `problem`'s lowest modes: a millionth of the stiffest coordinate's ω² below
 /// zero. Nearer the lowest modes Lanczos would separate them in a smaller basis, but `K − σM`

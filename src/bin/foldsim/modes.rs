@@ -92,6 +92,11 @@ pub(crate) fn modes(
         _ => return Err(format!("--mode {shown}: give free:K or hub_fixed:K, K the table's index")),
     };
     let (lin, here) = linearize_at(&scenario.model, &scenario.initial, &scenario.settings, at)?;
+    if let (Some(why), true) = (&here.unbalanced, choice.deployed) {
+        return Err(format!(
+            "--deployed: {why}. Modes are vibrations about an equilibrium: find one (`foldsim equilibrium`, from a state nearer it) and start the scenario there"
+        ));
+    }
     let count = count.or((lin.bodies > DENSE_BODIES).then_some(20));
     let started = std::time::Instant::now();
     let modes = match count {
@@ -163,6 +168,11 @@ pub(crate) fn modes(
             "  note: that state is at rest but out of balance (largest acceleration {residual:.3e}): the modes are taken at the static equilibrium nearest it ({iterations} Newton iterations, bodies moved up to {moved:.3e} m; `foldsim equilibrium` writes it)"
         );
     }
+    if here.unbalanced.is_some() {
+        outln!(
+            "  note: that state is at rest but out of balance, with no equilibrium found near it: these are the modes of its configuration (`foldsim equilibrium` looks for one)"
+        );
+    }
     let (w, v) = here.largest_rates;
     if w > 0.0 || v > 0.0 {
         outln!(
@@ -211,6 +221,7 @@ pub(crate) fn modes(
         );
     }
     let solver = match count {
+        Some(c) if lin.bodies <= foldsim::linear::modes::DENSE_FOR_LOWEST => format!("the {c} lowest, dense"),
         Some(c) => format!("the {c} lowest by shift-invert Lanczos"),
         None => "all, dense".into(),
     };

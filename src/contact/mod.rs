@@ -489,6 +489,16 @@ impl ContactSet {
         }
     }
 
+    /// The penetration of the sample `key` names into its other body at the poses `fa` (its
+    /// body) and `fb` (the other), m: positive in contact, negative apart (the gap between
+    /// the sample's sphere and the solid). NaN for a key that names no sample.
+    pub fn depth(&self, key: &PointKey, fa: &Frame, fb: &Frame) -> f64 {
+        let Some((sample, solid)) = self.sample_and_solid(key) else { return f64::NAN };
+        let point_in_b =
+            fb.dcm_n_b.transpose() * (fa.position_in_n + fa.dcm_n_b * sample.point_in_body - fb.position_in_n);
+        sample.radius - solid.signed_distance(&point_in_b).0
+    }
+
     /// The sample `key` names and the solid it probes.
     pub fn sample_and_solid(&self, key: &PointKey) -> Option<(&Sample, &Solid)> {
         let sa = self.solids[key.body as usize].as_ref()?;

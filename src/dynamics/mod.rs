@@ -270,6 +270,28 @@ impl<'m> Dynamics<'m> {
         Some((ContactSummary::of(&points), touched))
     }
 
+    /// The points whose contact changes between the last accepted state and `y`: those in
+    /// contact at one and not at the other (the keys; empty without contact).
+    pub fn contact_changes(&self, y: &[f64]) -> Vec<crate::contact::PointKey> {
+        if self.model.contact.is_none() {
+            return Vec::new();
+        }
+        let now = self.contact_points(y);
+        let memory = self.contact_memory.borrow();
+        let mut changed: Vec<_> = now.iter().map(|p| p.key).filter(|k| !memory.contains_key(k)).collect();
+        let in_now: std::collections::HashSet<_> = now.iter().map(|p| p.key).collect();
+        changed.extend(memory.keys().filter(|k| !in_now.contains(k)).copied());
+        changed
+    }
+
+    /// The penetration of contact point `key` at state `y` (m; negative apart), from its two
+    /// bodies' numbers alone: see [`crate::contact::ContactSet::depth`].
+    pub fn contact_depth(&self, key: &crate::contact::PointKey, y: &[f64]) -> f64 {
+        let Some(set) = &self.model.contact else { return f64::NAN };
+        let frame = |b: u32| BodyMotion::from_state(y, b as usize).contact_frame();
+        set.depth(key, &frame(key.body), &frame(key.other))
+    }
+
     /// Contact over the run so far (at accepted steps).
     pub fn contact_record(&self) -> ContactRecord {
         *self.contact_record.borrow()

@@ -114,6 +114,7 @@ pub(super) fn prepare<'m>(
         deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,
         load_breaks: breaks,
+        locate_contacts: settings.integrator.locates_contact_changes(),
         hinge_loads: settings.hinge_loads,
         released_at: None,
         spans: Vec::new(),

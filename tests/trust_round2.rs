@@ -431,3 +431,26 @@ fn contact_energy_balance_converges_with_the_tolerance() {
     assert!(rows.last().unwrap().dissipated() > 1.0, "the panels closed and struck");
     assert!(relative <= 1e-8, "{relative:e}");
 }
+
+/// Item 19: `foldsim plot` drew every column on one axis whatever its unit; now one panel per
+/// unit, stacked on a common t axis (the image grows by a panel's height per unit: 540 px for
+/// one unit, 920 for two, 1680 for four; before, 700 whatever the columns).
+#[cfg(feature = "plot")]
+#[test]
+fn plot_gives_each_unit_its_panel() {
+    let dir = common::tmp("trust2", "plot");
+    let csv = dir.join("p.csv");
+    let o =
+        foldsim().arg("run").arg(repo("examples/paper-1panel.toml")).arg("--csv").arg(&csv).arg("-q").output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let height = |columns: &str| {
+        let png = dir.join("p.png");
+        let o = foldsim().arg("plot").arg(&csv).args(["--columns", columns, "-o"]).arg(&png).output().unwrap();
+        assert!(o.status.success(), "{}", text(&o));
+        let b = std::fs::read(&png).unwrap();
+        u32::from_be_bytes([b[20], b[21], b[22], b[23]])
+    };
+    assert_eq!(height("h1_yaw,h1_pitch"), 540);
+    assert_eq!(height("h1_yaw,h1_delta_x"), 920);
+    assert_eq!(height("h1_yaw,h1_delta_x,E,w_B_z,h1_roll"), 1680);
+}

@@ -19,8 +19,9 @@ fn register() {
 /// Plots `columns` of the foldsim CSV `csv` against `t` into the PNG `out`. With `degrees`,
 /// angle columns (ending in `_yaw`, `_pitch`, `_roll`) are shown in degrees. Non-finite
 /// values (NaN, ±inf) are left out, as gaps in their lines; a plot whose columns have no
-/// finite value is refused. The y axis carries the columns' unit when they share one (else
-/// each legend entry does); an empty `title` becomes the columns and the file's name.
+/// finite value is refused. Columns of one unit share a panel, its y axis labelled with the
+/// unit; each unit has its own panel, one above the other on a common t axis. An empty
+/// `title` becomes the columns and the file's name.
 pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, out: &Path) -> Result<(), String> {
     if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
         return Err(format!("-o {}: the plot is written as PNG; name a .png file", out.display()));
@@ -57,17 +58,6 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
         return Err(format!("{}: no rows with a finite time", csv.display()));
     }
     let (t0, t1) = finite_t.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (tk, v) in series.iter().flat_map(|s| t.iter().zip(s)) {
-        if tk.is_finite() && v.is_finite() {
-            lo = lo.min(*v);
-            hi = hi.max(*v);
-        }
-    }
-    if !(lo.is_finite() && hi.is_finite()) {
-        return Err(format!("{}: the columns {} have no finite value to plot", csv.display(), columns.join(", ")));
-    }
-    let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
     // A span that f64 cannot hold (t from -1e308 to 1e308) would leave the axes without
     // ticks to place: the plotting library loops for ever.
     if !(t1 - t0).is_finite() {
@@ -78,21 +68,35 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
             crate::math::short(t1)
         ));
     }
-    if !(hi - lo + 2.0 * pad).is_finite() {
-        return Err(format!(
-            "{}: the values run from {} to {}, a span too wide to plot",
-            csv.display(),
-            crate::math::short(lo),
-            crate::math::short(hi)
-        ));
-    }
     let units: Vec<&str> = columns.iter().map(|c| if degrees && is_angle(c) { "deg" } else { unit_of(c) }).collect();
-    let shared = units.iter().all(|u| *u == units[0]);
-    let y_desc = match (shared, units[0]) {
-        (true, "") => "value".to_string(),
-        (true, u) => format!("value ({u})"),
-        (false, _) => "value (units in the legend)".to_string(),
-    };
+    // One panel per unit, in the order the columns name them: metres and radians never
+    // share an axis.
+    let mut panels: Vec<Panel> = Vec::new();
+    for (i, u) in units.iter().enumerate() {
+        match panels.iter_mut().find(|p| p.unit == *u) {
+            Some(p) => p.members.push(i),
+            None => panels.push(Panel { unit: u, members: vec![i], lo: f64::INFINITY, hi: f64::NEG_INFINITY }),
+        }
+    }
+    for p in &mut panels {
+        for (tk, v) in p.members.iter().flat_map(|&i| t.iter().zip(&series[i])) {
+            if tk.is_finite() && v.is_finite() {
+                p.lo = p.lo.min(*v);
+                p.hi = p.hi.max(*v);
+            }
+        }
+        if !(p.hi - p.lo).is_finite() && p.lo.is_finite() {
+            return Err(format!(
+                "{}: the values run from {} to {}, a span too wide to plot",
+                csv.display(),
+                crate::math::short(p.lo),
+                crate::math::short(p.hi)
+            ));
+        }
+    }
+    if panels.iter().all(|p| !p.lo.is_finite()) {
+        return Err(format!("{}: the columns {} have no finite value to plot", csv.display(), columns.join(", ")));
+    }
     let title = if title.is_empty() {
         format!("{} — {}", columns.join(", "), csv.file_name().map_or_else(String::new, |f| f.to_string_lossy().into()))
     } else {
@@ -104,7 +108,7 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
         "{}.partial.png",
         out.file_stem().map_or_else(|| "plot".into(), |s| s.to_string_lossy().into_owned())
     ));
-    let result = draw(&partial, &title, (t0, t1, lo, hi, pad), &y_desc, &t, &series, columns, &units, shared);
+    let result = draw(&partial, &title, (t0, t1), &t, &series, columns, &panels);
     match result {
         Ok(()) => std::fs::rename(&partial, out)
             .map_err(|e| format!("cannot rename {} to {}: {e}", partial.display(), out.display())),
@@ -115,73 +119,89 @@ pub fn plot_columns(csv: &Path, columns: &[String], degrees: bool, title: &str, 
     }
 }
 
-/// Draws the plot into the PNG file `out`.
-#[allow(clippy::too_many_arguments)]
+/// One panel of the plot: the columns of one unit and their range.
+struct Panel<'u> {
+    /// The unit ("" for a pure number).
+    unit: &'u str,
+    /// Indices of its columns.
+    members: Vec<usize>,
+    /// The smallest and largest finite value (infinite when there is none).
+    lo: f64,
+    hi: f64,
+}
+
+/// Draws the plot into the PNG file `out`: the panels one above the other, sharing t.
 fn draw(
     out: &Path,
     title: &str,
-    (t0, t1, lo, hi, pad): (f64, f64, f64, f64, f64),
-    y_desc: &str,
+    (t0, t1): (f64, f64),
     t: &[f64],
     series: &[Vec<f64>],
     columns: &[String],
-    units: &[&str],
-    shared: bool,
+    panels: &[Panel<'_>],
 ) -> Result<(), String> {
-    let root = BitMapBackend::new(out, (1200, 700)).into_drawing_area();
+    let height = 160 + 380 * panels.len().min(6) as u32;
+    let root = BitMapBackend::new(out, (1200, height)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| e.to_string();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 26))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(90)
-        .build_cartesian_2d(t0..t1.max(t0 + 1e-12), (lo - pad)..(hi + pad))
-        .map_err(|e| err(&e))?;
-    chart
-        .configure_mesh()
-        .x_desc("t (s)")
-        .y_desc(y_desc)
-        .label_style(("sans-serif", 16))
-        .draw()
-        .map_err(|e| err(&e))?;
-    for (i, (s, name)) in series.iter().zip(columns).enumerate() {
-        let color = Palette99::pick(i).to_rgba();
-        let label = if shared || units[i].is_empty() { name.clone() } else { format!("{name} ({})", units[i]) };
-        // One line per run of finite points: a non-finite value is a gap, not a spike.
-        let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-        for (&tk, &v) in t.iter().zip(s) {
-            if tk.is_finite() && v.is_finite() {
-                runs.last_mut().expect("one run at least").push((tk, v));
-            } else if !runs.last().expect("one run at least").is_empty() {
-                runs.push(Vec::new());
+    let root = root.titled(title, ("sans-serif", 26)).map_err(|e| err(&e))?;
+    let areas = root.split_evenly((panels.len(), 1));
+    for (k, (area, panel)) in areas.iter().zip(panels).enumerate() {
+        let (lo, hi) = if panel.lo.is_finite() { (panel.lo, panel.hi) } else { (-1.0, 1.0) };
+        let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
+        let last = k + 1 == panels.len();
+        let mut chart = ChartBuilder::on(area)
+            .margin(15)
+            .x_label_area_size(if last { 45 } else { 25 })
+            .y_label_area_size(90)
+            .build_cartesian_2d(t0..t1.max(t0 + 1e-12), (lo - pad)..(hi + pad))
+            .map_err(|e| err(&e))?;
+        let y_desc = if panel.unit.is_empty() { "value".to_string() } else { format!("value ({})", panel.unit) };
+        chart
+            .configure_mesh()
+            .x_desc(if last { "t (s)" } else { "" })
+            .y_desc(y_desc)
+            .label_style(("sans-serif", 16))
+            .draw()
+            .map_err(|e| err(&e))?;
+        for &i in &panel.members {
+            let (s, name) = (&series[i], &columns[i]);
+            let color = Palette99::pick(i).to_rgba();
+            // One line per run of finite points: a non-finite value is a gap, not a spike.
+            let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+            for (&tk, &v) in t.iter().zip(s) {
+                if tk.is_finite() && v.is_finite() {
+                    runs.last_mut().expect("one run at least").push((tk, v));
+                } else if !runs.last().expect("one run at least").is_empty() {
+                    runs.push(Vec::new());
+                }
             }
-        }
-        if runs.iter().all(Vec::is_empty) {
-            // Nothing to draw: say so in the legend.
-            let label = format!("{name} (no finite value)");
-            chart
-                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(|e| err(&e))?
-                .label(label.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-        }
-        for (k, run) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
-            let drawn = chart.draw_series(LineSeries::new(run, color.stroke_width(2))).map_err(|e| err(&e))?;
-            if k == 0 {
-                drawn
+            if runs.iter().all(Vec::is_empty) {
+                // Nothing to draw: say so in the legend.
+                let label = format!("{name} (no finite value)");
+                chart
+                    .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                    .map_err(|e| err(&e))?
                     .label(label.as_str())
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
             }
+            for (r, run) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
+                let drawn = chart.draw_series(LineSeries::new(run, color.stroke_width(2))).map_err(|e| err(&e))?;
+                if r == 0 {
+                    drawn
+                        .label(name.as_str())
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+                }
+            }
         }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 16))
+            .draw()
+            .map_err(|e| err(&e))?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 16))
-        .draw()
-        .map_err(|e| err(&e))?;
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }

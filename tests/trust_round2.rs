@@ -454,3 +454,40 @@ fn plot_gives_each_unit_its_panel() {
     assert_eq!(height("h1_yaw,h1_delta_x"), 920);
     assert_eq!(height("h1_yaw,h1_delta_x,E,w_B_z,h1_roll"), 1680);
 }
+
+/// Item 17: messages that blamed the wrong thing. A 1e300 N load was blamed on the
+/// tolerances (the body's acceleration, 1e299 m/s², is finite but its square is not): now
+/// refused at the start, naming the load. A thickness of 1e-300 m was reported as "edges must
+/// not cross", and thick ring-quads were refused by foldsim's own overlap check: the
+/// generator now says what is wrong with its options.
+#[test]
+fn messages_blame_the_right_thing() {
+    let e = edited(
+        "paper-1panel.toml",
+        &[("[initial.hub]", "[[load]]\nname = \"big\"\nbody = \"panel\"\nforce = [1e300, 0.0, 0.0]\nforce_frame = \"body\"\n\n[initial.hub]")],
+    )
+    .map(|s| {
+        let mut sink = |_: &foldsim::observe::Observation| Ok(());
+        foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, None).unwrap_err().to_string()
+    })
+    .unwrap_or_else(|e| e);
+    assert!(e.contains("'big'") && e.contains("too large") && !e.contains("tolerances"), "{e}");
+    let dir = common::tmp("trust2", "gen");
+    for (args, words) in [
+        (&["--thickness", "1e-300"][..], &["--thickness", "millionth", "membrane"][..]),
+        (&["--panels", "ring-quads", "--thickness", "0.01"][..], &["ring-quads", "triangles or quads"][..]),
+    ] {
+        let o = foldsim()
+            .args(["generate", "flasher", "--gores", "6", "--rings", "3"])
+            .args(args)
+            .arg("-o")
+            .arg(dir.join("f.toml"))
+            .output()
+            .unwrap();
+        let t = text(&o);
+        assert!(!o.status.success() && !t.contains("edges must not cross") && !t.contains("overlap by"), "{t}");
+        for w in words {
+            assert!(t.contains(w), "lacks '{w}': {t}");
+        }
+    }
+}

@@ -46,6 +46,19 @@ impl Dynamics<'_> {
         let dydt = self.uncounted_rhs(y);
         for (i, b) in model.bodies.iter().enumerate() {
             let d = &dydt[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)];
+            // Beyond 1e100 m/s² (or rad/s²) no step can follow the body (its squares overflow
+            // the error norms): name the loads on it, which a user set, before its hinges.
+            let loads: Vec<String> =
+                model.loads.iter().filter(|l| l.body == i).map(|l| format!("'{}'", l.name)).collect();
+            let largest = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            if !loads.is_empty() && !(largest < 1e100) {
+                return Some(format!(
+                    "body '{}': its acceleration is {largest:.3e} (m/s² or rad/s²), beyond what a step can follow: the loads on it ({}) are too large for its mass {:e} kg and inertia",
+                    b.name,
+                    loads.join(", "),
+                    b.mass
+                ));
+            }
             if d.iter().any(|x| !x.is_finite()) {
                 return Some(format!(
                     "body '{}': its acceleration is not finite (mass {:e} kg, inertia {:e}, {:e}, {:e} kg·m²): the hinge loads on it are too large for its mass or inertia",

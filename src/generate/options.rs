@@ -321,6 +321,26 @@ impl FlasherOptions {
             at_least_zero(v, key, unit, name)?;
         }
         let r = self.hub_radius;
+        if self.thickness > 0.0 && self.thickness < 1e-6 * r {
+            return Err(format!(
+                "{} = {} m is below a millionth of the hub's radius ({} m): the panels' cut corners and the layers' offsets vanish in round-off; give 0 for panels without thickness (a membrane), or a thickness of at least {:e} m",
+                name("thickness"),
+                short(self.thickness),
+                short(r),
+                1e-6 * r
+            ));
+        }
+        if self.thickness > 0.0 && self.panels == PanelModel::RingQuads {
+            // Ring-quads are bent across the prism's edges when stowed: the nesting of the
+            // layers (docs/flasher.md, *Thick panels*) is made for the panels that lie flat in
+            // the wrap, and ring-quads there would overlap the hub and one another.
+            return Err(format!(
+                "{} = ring-quads with {} > 0: thick panels are stowed in nested layers for the triangle and quad models only (ring-quads are bent across the hub's edges in the wrap and would overlap it); give {} = triangles or quads",
+                name("panels"),
+                name("thickness"),
+                name("panels")
+            ));
+        }
         if self.thickness > 0.0 && self.hub_inertia.is_some() {
             return Err(format!(
                 "{} does not apply with {} > 0: the hub is then a solid prism over its polygon, as tall as the stowed wrap, and its inertia follows from {} and that shape",

@@ -51,7 +51,7 @@ impl Dynamics<'_> {
             let loads: Vec<String> =
                 model.loads.iter().filter(|l| l.body == i).map(|l| format!("'{}'", l.name)).collect();
             let largest = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            if !loads.is_empty() && !(largest < 1e100) {
+            if !loads.is_empty() && largest >= 1e100 {
                 return Some(format!(
                     "body '{}': its acceleration is {largest:.3e} (m/s² or rad/s²), beyond what a step can follow: the loads on it ({}) are too large for its mass {:e} kg and inertia",
                     b.name,

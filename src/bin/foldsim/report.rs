@@ -106,14 +106,20 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
     }
     let e_rel = rel(d.energy, d.energy_initial.abs());
     let scale = d.energy_initial.abs().max(d.dissipated.abs());
-    if r.energy_conserving {
+    // With work done from outside (loads, motors, control) E changes by W: the balance line.
+    if r.energy_conserving && r.loads.is_none() {
         outln!("    energy E = T + V    {:.3e} J ({:.3e} relative; conserved by these laws)", d.energy, e_rel);
     } else {
         outln!(
-            "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved by these laws (damping, hysteresis, stops, a 2-D table, or the paper-linear law of docs/model.md §4)",
+            "    energy E = T + V    {:.3e} J max change ({:.3e} relative), {:+.3e} J at the end: not conserved {}",
             d.energy,
             e_rel,
-            d.energy_final_change
+            d.energy_final_change,
+            if r.loads.is_some() {
+                "(work from outside: loads, motors or control)"
+            } else {
+                "by these laws (damping, hysteresis, stops, a 2-D table, or the paper-linear law of docs/model.md §4)"
+            }
         );
         outln!(
             "    dissipated D            {:.6e} J by the end (hinge damping, hysteresis, stops, contact; for the paper-linear law the work of its non-potential torque)",

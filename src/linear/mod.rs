@@ -279,6 +279,8 @@ pub struct Where {
     /// When the state asked for was at rest, out of balance, and no equilibrium was found
     /// near it: why (the state is then taken as it is).
     pub unbalanced: Option<String>,
+    /// The state itself (as [`crate::state`] lays it out): the one the model is of.
+    pub state: Vec<f64>,
 }
 
 /// Whether `lin`'s residual acceleration is out of balance: above 1e-8 of the largest
@@ -354,6 +356,7 @@ pub fn linearize_at(
             largest_rates,
             balanced,
             unbalanced,
+            state: y,
         },
     ))
 }

@@ -12,7 +12,10 @@ const HEADER: &str = "kind,index,frequency_hz,omega,omega_squared,damping_ratio,
 
 /// One row of the table.
 fn row(out: &mut String, kind: &str, index: usize, m: &Mode) {
-    let _ = write!(out, "{kind},{index},{},{},{},{}", m.frequency_hz(), m.omega, m.eigenvalue, m.damping_ratio);
+    // A rigid-body mode has no frequency to relate a damping to: its ratio is left empty
+    // (never "NaN" in a table a person reads).
+    let zeta = if m.damping_ratio.is_finite() { m.damping_ratio.to_string() } else { String::new() };
+    let _ = write!(out, "{kind},{index},{},{},{},{zeta}", m.frequency_hz(), m.omega, m.eigenvalue);
     for e in m.effective {
         let _ = write!(out, ",{e}");
     }
@@ -141,7 +144,7 @@ pub(crate) fn modes(
     };
     write_atomically(&target, table.as_bytes())?;
     if let Some((page, m)) = page_mode {
-        mode_page(path, &scenario, m, shown.0, page)?;
+        mode_page(path, &scenario, &here.state, m, shown.0, page)?;
         if !quiet {
             outln!(
                 "  mode page ({} at {:.6} Hz, two periods) -> {}",
@@ -353,16 +356,19 @@ pub(crate) fn linearize(
 fn mode_page(
     path: &Path,
     scenario: &foldsim::scenario::Scenario,
+    y: &[f64],
     mode: &Mode,
     hub_fixed: bool,
     page: &Path,
 ) -> Result<(), String> {
     use foldsim::observe::{Observer, catalogue, row};
     use foldsim::output::animation::{Table, frames_from_table};
+    // Displaced about `y`, the state the modes were taken at (the equilibrium when one was
+    // found); the dynamics only lends the angle references the rows are read with.
     let stepper = foldsim::simulate::Stepper::start(&scenario.model, &scenario.initial, &scenario.settings)
         .map_err(|e| e.to_string())?;
-    let y = stepper.state().to_vec();
     let d = stepper.dynamics();
+    let y = y.to_vec();
     let n = scenario.model.bodies.len();
     let centres: Vec<foldsim::math::Vec3> =
         (0..n).map(|i| foldsim::state::BodyMotion::from_state(&y, i).r_in_n).collect();
@@ -407,7 +413,7 @@ fn mode_page(
 }
 
 #[cfg(not(feature = "animation"))]
-fn mode_page(_: &Path, _: &foldsim::scenario::Scenario, _: &Mode, _: bool, _: &Path) -> Result<(), String> {
+fn mode_page(_: &Path, _: &foldsim::scenario::Scenario, _: &[f64], _: &Mode, _: bool, _: &Path) -> Result<(), String> {
     Err("--view needs foldsim built with the `animation` feature".into())
 }
 

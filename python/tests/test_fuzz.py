@@ -98,3 +98,56 @@ def test_python_values_give_a_scenario_or_a_named_exception():
             raise AssertionError(f"seed {seed} input {i} (kind {kind}): {type(e).__name__}: {e}") from e
     print(f"fuzz Python values (seed {seed}): {n} inputs: {counts}")
     assert counts["built"] > 0 and counts["refused"] > 0
+
+
+HOLD = foldsim.load(ROOT / "examples" / "zfold-attitude-hold.toml").with_values({"run.duration": 1.0})
+MOTORS = foldsim.load(ROOT / "examples" / "zfold-motor-deploy.toml").with_values({"run.duration": 1.0})
+
+
+def test_python_stepping_gives_a_state_or_a_named_exception():
+    """Stepping from Python (issue 33): advance with any dt, commands with any values (NaN,
+    inf, huge, wrong lengths and names), state lookups by any key, on a run with wheels and
+    one with motors. Each call gives its result or raises ValueError, TypeError, KeyError or
+    RuntimeError (a run that cannot go on, in words); never another exception, never a
+    crash."""
+    n = int(os.environ.get("FOLDSIM_FUZZ_INPUTS", "300"))
+    seed = int(os.environ.get("FOLDSIM_FUZZ_SEED", "1"))
+    rng = random.Random(seed)
+    counts = {"done": 0, "refused": 0, "run ended": 0}
+    sims = []
+    for i in range(n):
+        if not sims or rng.random() < 0.05:
+            sims = [HOLD.start(), MOTORS.start()]
+        sim = rng.choice(sims)
+        kind = rng.randrange(7)
+        num = lambda: rng.choice([0.0, 1.0, -1.0, 0.1, 1e-300, 1e300, math.nan, math.inf, -math.inf, 3, "x", None])  # noqa: E731
+        try:
+            if kind == 0:
+                sim.advance(rng.choice([0.01, 0.1, 0.3 / 7.0, 1e-12, 0.0, -0.1, math.nan, math.inf, 2.0, 1e-300]))
+            elif kind == 1:
+                sim.set_torque(rng.choice(["hub", "p1", "nobody", ""]), [num(), num(), num()][: rng.randrange(5)], frame=rng.choice(["body", "inertial", "x"]))
+            elif kind == 2:
+                sim.set_force(rng.choice(["hub", "p2"]), [num(), 0.0, 0.0], frame="inertial", point=[0.0, num(), 0.0])
+            elif kind == 3:
+                sim.set_motor(rng.choice(["root", "mid", "x"]), num())
+            elif kind == 4:
+                sim.set_wheel_torque(rng.choice([None, [num(), num(), num()], [0.1], []]))
+            elif kind == 5:
+                s = sim.state
+                key = rng.choice(["q_B_w", "q_B_W", "w_B_z", "", "sigma_B_x", "nothing"])
+                s[key]
+                s.vector(rng.choice(["q_B", "w_B", "sigma_B", "zz"]))
+            else:
+                sim.result()
+            counts["done"] += 1
+        except (ValueError, TypeError, KeyError):
+            counts["refused"] += 1
+        except RuntimeError as e:
+            # advance past the run's end, or a run the commands drove where it cannot go on.
+            assert str(e), f"seed {seed} input {i}: an empty RuntimeError"
+            counts["run ended"] += 1
+            sims.remove(sim)
+        except Exception as e:  # noqa: BLE001: the point is to catch any other kind
+            raise AssertionError(f"seed {seed} input {i} (kind {kind}): {type(e).__name__}: {e}") from e
+    print(f"fuzz Python stepping (seed {seed}): {n} calls: {counts}")
+    assert counts["done"] > 0 and counts["refused"] > 0

@@ -24,6 +24,7 @@
 pub mod equilibrium;
 pub mod lanczos;
 pub mod modes;
+pub mod reduced;
 pub mod sparse;
 pub mod statespace;
 

@@ -51,6 +51,9 @@ pub struct Modes {
     pub appendage_total: [f64; 6],
     /// `‖K − Kᵀ‖ / ‖K‖` (Frobenius): how far the stiffness is from symmetric.
     pub asymmetry: f64,
+    /// T, 6(n − 1) × 6: the other bodies' coordinates when the hub moves rigidly by its six
+    /// (translations along, rotations about its axes), the structure moving with it.
+    pub hub_rigid_influence: DMatrix<f64>,
 }
 
 /// `M^{-1/2}` of a block-diagonal mass matrix given per body (mass, inertia).
@@ -155,9 +158,15 @@ impl Modes {
         let kc = k.select_rows(keep.iter()).select_columns(keep.iter());
         let cc = c.select_rows(keep.iter()).select_columns(keep.iter());
         let (lambda_c, shapes_c) = solve(&kc, &inverse_root(&lin.mass[1..]));
-        let (mt, total) = hub_influence(lin, positions, dcm_n_b);
+        let (t, mt, total) = hub_influence(lin, positions, dcm_n_b);
         let hub_fixed = hub_fixed_modes(&lambda_c, &shapes_c, &mt, |x| x.dot(&(&cc * x)));
-        Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry })
+        Ok(Self {
+            free,
+            hub_fixed,
+            appendage_total: std::array::from_fn(|a| total[(a, a)]),
+            asymmetry,
+            hub_rigid_influence: t,
+        })
     }
 
     /// The six rigid-body modes and the `count` lowest flexible ones free-free, and the
@@ -235,9 +244,15 @@ impl Modes {
         let fixed_problem = super::lanczos::Problem::new(&kc, &mc, stiffest);
         let shift = first_mode_shift(stiffest);
         let (lambda_c, shapes_c) = fixed_problem.nearest(shift, count)?;
-        let (mt, total) = hub_influence(lin, positions, dcm_n_b);
+        let (t, mt, total) = hub_influence(lin, positions, dcm_n_b);
         let hub_fixed = hub_fixed_modes(&lambda_c, &shapes_c, &mt, |x| x.dot(&cc.mul(x)));
-        Ok(Self { free, hub_fixed, appendage_total: std::array::from_fn(|a| total[(a, a)]), asymmetry: f64::NAN })
+        Ok(Self {
+            free,
+            hub_fixed,
+            appendage_total: std::array::from_fn(|a| total[(a, a)]),
+            asymmetry: f64::NAN,
+            hub_rigid_influence: t,
+        })
     }
 }
 
@@ -257,7 +272,11 @@ fn first_mode_shift(stiffest: f64) -> f64 {
 /// The rigid motion the hub's unit motions give the other bodies (translations along, and
 /// rotations about, the hub's axes through its centre of mass), `T`, 6(n − 1) × 6: returns
 /// `M T` (the other bodies' mass times it) and `Tᵀ M T` (their mass and inertia about the hub).
-fn hub_influence(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3]) -> (DMatrix<f64>, DMatrix<f64>) {
+fn hub_influence(
+    lin: &Linearization,
+    positions: &[Vec3],
+    dcm_n_b: &[Mat3],
+) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
     let n = lin.bodies;
     let hub_axes = dcm_n_b[0];
     let mut t = DMatrix::zeros(6 * (n - 1), 6);
@@ -277,7 +296,7 @@ fn hub_influence(lin: &Linearization, positions: &[Vec3], dcm_n_b: &[Mat3]) -> (
         }
     }
     let total = t.transpose() * &mt;
-    (mt, total)
+    (t, mt, total)
 }
 
 /// The state `y` (crate::state's layout) displaced along a mode `shape` (6 coordinates per

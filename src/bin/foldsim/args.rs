@@ -161,6 +161,16 @@ pub enum Command {
         /// linear model offers (docs/linear.md). Default: the hub's MRPs and rates.
         #[arg(long, value_delimiter = ',')]
         outputs: Option<Vec<String>>,
+        /// A reduced model: the six rigid-body modes and the N lowest flexible free-free modes
+        /// as modal coordinates (with --hub-held: the hub's six coordinates and the N lowest
+        /// modes with the hub held), the rigid-body poles exactly at zero (docs/linear.md).
+        /// About a state at rest only.
+        #[arg(long)]
+        modes: Option<usize>,
+        /// With --modes: the hub as a rigid body and the modes with the hub held (hybrid
+        /// coordinates) instead of the free-free modes.
+        #[arg(long, requires = "modes")]
+        hub_held: bool,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,

@@ -55,9 +55,9 @@ fn main() -> ExitCode {
             (view, &mode),
             quiet,
         ),
-        Command::Linearize { scenario, output, state, inputs, outputs, quiet } => {
-            let choice = modes::Choice { at: state.at, deployed: state.deployed, count: None };
-            modes::linearize(&scenario, output, choice, (inputs, outputs), quiet)
+        Command::Linearize { scenario, output, state, inputs, outputs, modes: reduced, hub_held, quiet } => {
+            let choice = modes::Choice { at: state.at, deployed: state.deployed, count: reduced };
+            modes::linearize(&scenario, output, choice, (inputs, outputs), hub_held, quiet)
         }
         Command::Equilibrium { scenario, output, tolerance, spin_rate, quiet } => {
             modes::equilibrium(&scenario, output, tolerance, spin_rate, quiet)

@@ -491,3 +491,49 @@ fn messages_blame_the_right_thing() {
         }
     }
 }
+
+/// Item 18 (in part): the contact event log. A panel swinging into the hub strikes it twice
+/// (impacts, their speeds the approach speeds at the accepted step they began: the first at
+/// 0.85 s near the swing's 1.2 m/s); the thick flasher's stowed wrap rests on itself from
+/// t = 0 (resting episodes, told apart from impacts). `foldsim run --contacts` writes every
+/// episode, one row each, as the report counts them.
+#[test]
+fn contact_episodes_tell_resting_from_impacts() {
+    let s = common::scenario("examples/contact-panel-hub.toml");
+    let (_, _, report) = common::run(&s);
+    let impacts: Vec<_> = report.contact_episodes.iter().filter(|e| !e.resting).collect();
+    assert_eq!(impacts.len(), report.contact_episodes.len());
+    assert!(impacts.len() >= 2, "{impacts:?}");
+    let first = impacts[0];
+    assert!((first.start - 0.85).abs() < 0.01 && first.impact_speed > 1.0 && first.end.is_some(), "{first:?}");
+    assert!(first.deepest.0 > 0.0 && first.peak_force.0 > 0.0 && first.deepest.1 >= first.start);
+    let thick = edited("flasher-thick.toml", &[("duration = 1.3", "duration = 0.002")]).unwrap();
+    let (_, _, report) = common::run(&thick);
+    let resting = report.contact_episodes.iter().filter(|e| e.resting).count();
+    assert!(resting > 10 && report.contact_episodes.iter().all(|e| e.resting == (e.start == 0.0)), "{resting}");
+    let dir = common::tmp("trust2", "episodes");
+    let out = dir.join("events.csv");
+    let o = foldsim()
+        .arg("run")
+        .arg(repo("examples/contact-panel-hub.toml"))
+        .arg("--csv")
+        .arg(dir.join("r.csv"))
+        .arg("--contacts")
+        .arg(&out)
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let table = std::fs::read_to_string(&out).unwrap();
+    assert!(table.starts_with("body_a,body_b,kind,start_s"), "{table}");
+    assert_eq!(table.lines().count(), 1 + impacts.len(), "{table}");
+    assert!(table.lines().nth(1).unwrap().starts_with("hub,panel,impact,"), "{table}");
+    let o = foldsim()
+        .arg("run")
+        .arg(repo("examples/paper-1panel.toml"))
+        .args(["--csv", "/dev/null", "--contacts"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).contains("no [contact]"), "{}", text(&o));
+}

@@ -307,6 +307,20 @@ pub(crate) fn report_dict<'py>(
             let (force, t, a, b) = c.force_max;
             cd.set_item("force_max", (force > 0.0).then(|| (force, t, body(a), body(b))))?;
             cd.set_item("dissipated", report.contact_dissipated)?;
+            // Every episode of every pair (docs/contact.md, *Episodes*).
+            let episodes = pyo3::types::PyList::empty(py);
+            for e in &report.contact_episodes {
+                let ed = PyDict::new(py);
+                ed.set_item("bodies", (body(e.bodies.0), body(e.bodies.1)))?;
+                ed.set_item("kind", if e.resting { "resting" } else { "impact" })?;
+                ed.set_item("start", e.start)?;
+                ed.set_item("end", e.end)?;
+                ed.set_item("impact_speed", e.impact_speed)?;
+                ed.set_item("deepest", e.deepest)?;
+                ed.set_item("peak_force", e.peak_force)?;
+                episodes.append(ed)?;
+            }
+            cd.set_item("episodes", episodes)?;
             d.set_item("contact", cd)?;
         }
     }

@@ -4,6 +4,7 @@
 //! [`ContactSet::evaluate`] with the bodies' poses and applies the forces; nothing here knows
 //! of hinges or of the state vector.
 
+pub mod episodes;
 pub mod law;
 pub mod proximity;
 pub mod solid;

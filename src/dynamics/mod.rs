@@ -73,6 +73,7 @@ pub struct Dynamics<'m> {
     contact_memory: RefCell<ContactMemory>,
     /// Contact over the run so far, at accepted steps.
     contact_record: RefCell<ContactRecord>,
+    contact_log: RefCell<crate::contact::episodes::ContactLog>,
     /// Per body: whether it touched another at an accepted step since the last
     /// [`Self::take_touched`].
     touched: RefCell<Vec<bool>>,
@@ -155,6 +156,7 @@ impl<'m> Dynamics<'m> {
             }),
             contact_memory: RefCell::new(ContactMemory::default()),
             contact_record: RefCell::new(ContactRecord::default()),
+            contact_log: RefCell::new(Default::default()),
             touched: RefCell::new(vec![false; nb]),
             proximity: RefCell::new(None),
             evaluations: Cell::new(0),
@@ -297,6 +299,17 @@ impl<'m> Dynamics<'m> {
         *self.contact_record.borrow()
     }
 
+    /// Every contact episode so far (crate::contact::episodes), in the order they started.
+    pub fn contact_episodes(&self) -> Vec<crate::contact::episodes::Episode> {
+        self.contact_log.borrow().episodes()
+    }
+
+    /// Up to time `t` (s) an episode that starts is the stowed package's resting contact (the
+    /// launch restraint's release, or 0).
+    pub fn set_resting_until(&self, t: f64) {
+        self.contact_log.borrow_mut().resting_until = t;
+    }
+
     /// Brings the contact memory up to the accepted state `y`: a point newly in contact
     /// keeps its approach speed now as its impact speed; a point out of contact is forgotten.
     fn accept_contacts(&self, t: f64, y: &[f64]) {
@@ -307,6 +320,10 @@ impl<'m> Dynamics<'m> {
         let points = self.contact_points(y);
         self.contact_record.borrow_mut().record(t, &points);
         mark_touched(&points, &mut self.touched.borrow_mut());
+        {
+            let memory = self.contact_memory.borrow();
+            self.contact_log.borrow_mut().record(t, &points, |p| !memory.contains_key(&p.key));
+        }
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {

@@ -113,6 +113,8 @@ pub struct RunReport {
     pub lock_engagements: Vec<(Lock, f64)>,
     /// Contact over the run (at accepted steps), when the model has contact.
     pub contact: Option<crate::contact::ContactRecord>,
+    /// Every contact episode of every body pair, in the order they started (docs/contact.md).
+    pub contact_episodes: Vec<crate::contact::episodes::Episode>,
     /// Energy contact dissipated over the run (damping and friction), J.
     pub contact_dissipated: f64,
     /// What the external loads gave the system by the end (work, impulse, angular impulse),

@@ -60,6 +60,8 @@ pub(super) fn prepare<'m>(
 ) -> Result<(Dynamics<'m>, Vec<f64>, RunState), SimError> {
     let (mut y0, theta_refs) = initial_state(model, ic);
     let dynamics = Dynamics::new(model, theta_refs);
+    // Contact that starts before the launch restraint lets go is the stowed package's.
+    dynamics.set_resting_until(settings.release_at.unwrap_or(0.0));
     dynamics.set_initial_wheels(&mut y0);
     dynamics.initialize_memory(&y0);
     if settings.release_at.is_some() {
@@ -216,6 +218,7 @@ pub(super) fn report(
         energy_conserving: model.hinges.iter().all(|h| h.law.conserves_energy())
             && model.contact.as_ref().is_none_or(|c| c.law.restitution == 1.0 && c.law.friction == 0.0),
         contact: model.contact.as_ref().map(|_| dynamics.contact_record()),
+        contact_episodes: dynamics.contact_episodes(),
         contact_dissipated: state.last.as_ref().map_or(0.0, |o| o.contact_dissipated),
         loads: state.last.as_ref().and_then(|o| o.loads),
         actuators: dynamics.actuator_records(),

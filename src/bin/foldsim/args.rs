@@ -33,6 +33,11 @@ pub enum Command {
         /// Write the output even if it is estimated above 1 GiB.
         #[arg(long)]
         large_output: bool,
+        /// Also write the contact event log (CSV): every episode of every body pair, with its
+        /// start, end, impact speed, deepest penetration and peak force, resting contact of
+        /// the stowed package told apart from impacts (docs/contact.md).
+        #[arg(long)]
+        contacts: Option<PathBuf>,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,

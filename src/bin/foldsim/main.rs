@@ -23,10 +23,20 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         #[cfg(feature = "animation")]
-        Command::Run { scenario, csv, columns, large_output, quiet, animation, animation_fps, view: page } => {
+        Command::Run {
+            scenario,
+            csv,
+            columns,
+            large_output,
+            contacts,
+            quiet,
+            animation,
+            animation_fps,
+            view: page,
+        } => {
             let animation_target = animation.map(|path| (path, animation_fps));
             let page_target = page.as_deref().map(|p| (p, animation_fps));
-            run::run(&scenario, csv, columns, large_output, quiet, animation_target, page_target).and_then(
+            run::run(&scenario, (csv, contacts), columns, large_output, quiet, animation_target, page_target).and_then(
                 |(csv, frames)| match (page, frames) {
                     (Some(page), Some(frames)) => view::view_run(&scenario, &csv, &page, frames),
                     _ => Ok(()),
@@ -34,8 +44,8 @@ fn main() -> ExitCode {
             )
         }
         #[cfg(not(feature = "animation"))]
-        Command::Run { scenario, csv, columns, large_output, quiet } => {
-            run::run(&scenario, csv, columns, large_output, quiet, None, None).map(|_| ())
+        Command::Run { scenario, csv, columns, large_output, contacts, quiet } => {
+            run::run(&scenario, (csv, contacts), columns, large_output, quiet, None, None).map(|_| ())
         }
         #[cfg(feature = "animation")]
         Command::Animate { scenario, csv, output, fps } => view::animate(&scenario, &csv, &output, fps),

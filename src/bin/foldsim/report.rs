@@ -188,6 +188,26 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
                 let (f, tf, fa, fb) = c.force_max;
                 outln!("    largest force        {f:.4e} N at t = {tf:.6} s: between {} and {}", name(fa), name(fb));
                 outln!("    dissipated           {:.6e} J (damping and friction)", r.contact_dissipated);
+                let episodes = &r.contact_episodes;
+                let resting = episodes.iter().filter(|e| e.resting).count();
+                let mut impacts: Vec<_> = episodes.iter().filter(|e| !e.resting).collect();
+                outln!(
+                    "    episodes             {} ({resting} resting from the start: the stowed package; {} impacts after)",
+                    episodes.len(),
+                    impacts.len()
+                );
+                impacts.sort_by(|x, y| y.impact_speed.total_cmp(&x.impact_speed));
+                for e in impacts.iter().take(3) {
+                    outln!(
+                        "      impact {} / {} at t = {:.6} s: {:.3e} m/s, deepest {:.3e} m, peak {:.4e} N",
+                        name(e.bodies.0),
+                        name(e.bodies.1),
+                        e.start,
+                        e.impact_speed,
+                        e.deepest.0,
+                        e.peak_force.0
+                    );
+                }
             }
         }
     }

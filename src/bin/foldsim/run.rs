@@ -22,7 +22,7 @@ pub(crate) const BYTES_PER_FIELD: f64 = 22.0;
 
 pub(crate) fn run(
     path: &Path,
-    csv: Option<PathBuf>,
+    (csv, contacts): (Option<PathBuf>, Option<PathBuf>),
     columns: Option<Vec<String>>,
     large_output: bool,
     quiet: bool,
@@ -59,7 +59,19 @@ pub(crate) fn run(
         check_fps(fps)?;
         outputs.push(("--view", page));
     }
+    if let Some(c) = &contacts {
+        if scenario.model.contact.is_none() {
+            return Err(format!(
+                "--contacts {}: the scenario has no [contact] table, so no contact to log",
+                c.display()
+            ));
+        }
+        outputs.push(("--contacts", c));
+    }
     check_outputs(&scenario.inputs, &outputs)?;
+    if let Some(c) = &contacts {
+        check_extension("--contacts", c, "csv", "a CSV table")?;
+    }
     // Then each named as what it holds (after the checks against overwriting an input).
     use foldsim::output::paths::{GLB, HTML, check_extension};
     if let Some((glb, _)) = &animation {
@@ -144,6 +156,14 @@ pub(crate) fn run(
             }
             if let (Some((glb, _)), Some(frames)) = (animation, &frames) {
                 write_animation(&scenario.model, frames, &glb, quiet)?;
+            }
+            if let Some(c) = &contacts {
+                let names: Vec<&str> = scenario.model.bodies.iter().map(|b| b.name.as_str()).collect();
+                let table = foldsim::contact::episodes::episodes_csv(&report.contact_episodes, &names);
+                foldsim::output::paths::write_atomically(c, table.as_bytes())?;
+                if !quiet {
+                    outln!("  contact episodes {} -> {}", report.contact_episodes.len(), c.display());
+                }
             }
             Ok((written, frames))
         }

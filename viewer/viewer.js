@@ -80,7 +80,7 @@
     view.duration = duration;
     $("slider").max = String(duration);
     $("slider").step = String(duration / 2000 || 0.001);
-    setTimeout(() => { setTime(0); view.ready = true; }, 0);
+    setTimeout(() => { setTime(startTime()); if (startTime() > 0) playing = false; view.ready = true; }, 0);
   } else new GLTFLoader().parse(bytes.buffer, "", (gltf) => {
     scene.add(gltf.scene);
     gltf.scene.traverse((o) => {
@@ -99,7 +99,8 @@
     mixer.setTime(0);
     frame();
     resize();
-    setTime(0);
+    setTime(startTime());
+    if (startTime() > 0) { playing = false; $("play").textContent = "play"; }
     view.ready = true;
     view.duration = duration;
   }, (err) => {
@@ -139,6 +140,14 @@
     return t - ts[lo] < ts[hi] - t ? lo : hi;
   }
 
+  // The time to show first, from the page's address: `page.html#t=1.7` opens paused at
+  // t = 1.7 s (a time to send a colleague); otherwise the run plays from 0.
+  function startTime() {
+    const m = /(?:^#|&)t=([0-9.eE+-]+)/.exec(window.location.hash || "");
+    const t = m ? Number(m[1]) : 0;
+    return Number.isFinite(t) && t > 0 ? t : 0;
+  }
+
   function setTime(t) {
     time = Math.min(Math.max(t, 0), duration);
     // A repeating clip set to its full duration wraps to its start: stop just short of it.
@@ -149,6 +158,7 @@
     colour();
     drawPlot();
   }
+  view.now = () => time;
   view.setTime = (t) => { playing = false; $("play").textContent = "play"; setTime(t); if (renderer) renderer.render(scene, camera); };
 
   // Plot of the chosen columns, each in a band of its own with its own axis (ticks at round

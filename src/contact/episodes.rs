@@ -80,6 +80,12 @@ impl ContactLog {
         }
     }
 
+    /// Whether `p`'s pair is in a resting episode now (the stowed package on itself).
+    pub fn is_resting(&self, p: &ContactPoint) -> bool {
+        let pair = (p.key.body.min(p.key.other) as usize, p.key.body.max(p.key.other) as usize);
+        self.open.get(&pair).is_some_and(|e| e.resting)
+    }
+
     /// Every episode so far, in the order they started (those still open with no end).
     pub fn episodes(&self) -> Vec<Episode> {
         let mut all: Vec<Episode> = self.closed.iter().chain(self.open.values()).copied().collect();

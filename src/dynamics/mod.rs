@@ -268,7 +268,9 @@ impl<'m> Dynamics<'m> {
         self.model.contact.as_ref()?;
         let points = self.contact_points(y);
         let mut touched = std::mem::replace(&mut *self.touched.borrow_mut(), vec![false; self.model.bodies.len()]);
-        mark_touched(&points, &mut touched);
+        let log = self.contact_log.borrow();
+        let impacts: Vec<ContactPoint> = points.iter().filter(|p| !log.is_resting(p)).copied().collect();
+        mark_touched(&impacts, &mut touched);
         Some((ContactSummary::of(&points), touched))
     }
 
@@ -319,11 +321,16 @@ impl<'m> Dynamics<'m> {
         self.refresh_proximity(y);
         let points = self.contact_points(y);
         self.contact_record.borrow_mut().record(t, &points);
-        mark_touched(&points, &mut self.touched.borrow_mut());
         {
             let memory = self.contact_memory.borrow();
             self.contact_log.borrow_mut().record(t, &points, |p| !memory.contains_key(&p.key));
         }
+        // The bodies in an impact are marked for the animation, not the stowed package
+        // resting on itself (which would mark the whole wrap from t = 0).
+        let log = self.contact_log.borrow();
+        let impacts: Vec<ContactPoint> = points.iter().filter(|p| !log.is_resting(p)).copied().collect();
+        mark_touched(&impacts, &mut self.touched.borrow_mut());
+        drop(log);
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {

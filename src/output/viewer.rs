@@ -18,9 +18,21 @@ const THREE: &str = include_str!("../../viewer/three-bundle.js");
 const THREE_LICENSE: &str = include_str!("../../viewer/LICENSE-three.txt");
 const VIEWER: &str = include_str!("../../viewer/viewer.js");
 
-/// The columns plotted when none are chosen: the spin-deployment ones if the run has them,
-/// else the first hinges' fold angles.
+/// The columns plotted when none are chosen: with contact, its columns (how deep, how hard,
+/// how many pairs); else the spin-deployment ones if the run has them, else the first hinges'
+/// fold angles.
 fn default_columns(model: &Model, table: &Table) -> Vec<String> {
+    if model.contact.is_some() {
+        let contact: Vec<String> = crate::observe::CONTACT_COLUMNS
+            .iter()
+            .rev()
+            .map(|c| c.to_string())
+            .filter(|c| table.column(c).is_some())
+            .collect();
+        if !contact.is_empty() {
+            return contact;
+        }
+    }
     if table.column("deployed").is_some() && model.hinges.len() > 8 {
         return vec!["deployed".into(), "spin_rate".into()];
     }

@@ -289,7 +289,8 @@ pub struct FlasherArgs {
     /// Hub circumradius, m.
     #[arg(long, default_value_t = FlasherOptions::default().hub_radius)]
     pub hub_radius: f64,
-    /// Panel thickness, m (mass properties and shapes; the stowed wrap is the zero-thickness one).
+    /// Panel thickness, m (mass properties and shapes); above 0 the panels are stowed in nested
+    /// layers with a [contact] table (triangles and quads; docs/flasher.md, Thick panels).
     #[arg(long, default_value_t = FlasherOptions::default().thickness)]
     pub thickness: f64,
     /// Mass per unit area of the panels, kg/m².

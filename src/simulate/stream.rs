@@ -308,33 +308,7 @@ impl StreamOut<'_, '_, '_, '_> {
                 (a, ga, b, gb) = (ta, ga_, tb, gb_);
             }
             // Illinois regula falsi on the bracket.
-            let tol = 1e-13 * b.abs().max(1.0);
-            let mut side = 0;
-            for _ in 0..100 {
-                if b - a <= tol {
-                    break;
-                }
-                let mut c = b - gb * (b - a) / (gb - ga);
-                if !(c > a && c < b) {
-                    c = 0.5 * (a + b);
-                }
-                let gc = g_at(c);
-                if gc < 0.0 {
-                    b = c;
-                    gb = gc;
-                    if side == -1 {
-                        ga *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    a = c;
-                    ga = gc;
-                    if side == 1 {
-                        gb *= 0.5;
-                    }
-                    side = 1;
-                }
-            }
+            let b = illinois(&mut g_at, |g| g < 0.0, (a, ga), (b, gb), 1e-13 * b.abs().max(1.0), 100);
             if best.is_none_or(|(_, t)| b < t) {
                 best = Some((k, b));
             }
@@ -371,36 +345,11 @@ impl StreamOut<'_, '_, '_, '_> {
                 step.interpolate_range(t, body(key.other), &mut y);
                 sign * self.dynamics.contact_depth(key, &y)
             };
-            let (mut a, mut ga) = (step.t_prev, g_at(step.t_prev));
-            let (mut b, mut gb) = (step.t, g_at(step.t));
+            let (ga, gb) = (g_at(step.t_prev), g_at(step.t));
             if !(ga < 0.0 && gb >= 0.0) {
                 continue;
             }
-            let tol = 1e-9 * h;
-            let mut side = 0;
-            for _ in 0..60 {
-                if b - a <= tol {
-                    break;
-                }
-                let mut c = b - gb * (b - a) / (gb - ga);
-                if !(c > a && c < b) {
-                    c = 0.5 * (a + b);
-                }
-                let gc = g_at(c);
-                if gc >= 0.0 {
-                    (b, gb) = (c, gc);
-                    if side == 1 {
-                        ga *= 0.5;
-                    }
-                    side = 1;
-                } else {
-                    (a, ga) = (c, gc);
-                    if side == -1 {
-                        gb *= 0.5;
-                    }
-                    side = -1;
-                }
-            }
+            let b = illinois(&mut g_at, |g| g >= 0.0, (step.t_prev, ga), (step.t, gb), 1e-9 * h, 60);
             roots.push(b);
         }
         let first = roots.iter().copied().fold(f64::INFINITY, f64::min);
@@ -628,4 +577,44 @@ impl Tracked<'_, '_, '_, '_, '_> {
         }
         Ok(control)
     }
+}
+
+/// Illinois regula falsi (Dowell & Jarratt 1971) on a bracket whose end `(a, g(a))` lies
+/// before a crossing and `(b, g(b))` after it (`after(g)` tells which side a value is on):
+/// narrowed to `tol` (s) in at most `iterations` evaluations of `g`, it returns the end after
+/// the crossing. A retained end's value is halved when the other moves twice running, so the
+/// bracket closes from both sides.
+fn illinois(
+    g: &mut impl FnMut(f64) -> f64,
+    after: impl Fn(f64) -> bool,
+    (mut a, mut ga): (f64, f64),
+    (mut b, mut gb): (f64, f64),
+    tol: f64,
+    iterations: usize,
+) -> f64 {
+    let mut side = 0;
+    for _ in 0..iterations {
+        if b - a <= tol {
+            break;
+        }
+        let mut c = b - gb * (b - a) / (gb - ga);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let gc = g(c);
+        if after(gc) {
+            (b, gb) = (c, gc);
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, ga) = (c, gc);
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
 }

@@ -30,6 +30,7 @@ pub(crate) fn linearize<'py>(
     deployed: bool,
     inputs: Option<Vec<String>>,
     outputs: Option<Vec<String>>,
+    reduced: (Option<usize>, bool),
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut s = prepare(scenario, at, deployed)?;
     s.model.commandable = true;
@@ -49,9 +50,17 @@ pub(crate) fn linearize<'py>(
         None => default_outputs(),
         Some(p) => outputs_matching(&s.model, &p).map_err(|e| PyValueError::new_err(format!("outputs: {e}")))?,
     };
-    let ss = py
-        .detach(|| state_space(&s.model, &s.initial, &s.settings, at, &bodies, &outputs))
-        .map_err(PyValueError::new_err)?;
+    let ss = match reduced {
+        (None, true) => return Err(PyValueError::new_err("hub_held=True reduces the model: give modes=N too")),
+        (None, false) => py.detach(|| state_space(&s.model, &s.initial, &s.settings, at, &bodies, &outputs)),
+        (Some(count), hub_held) => {
+            use foldsim::linear::reduced::{Reduction, reduced_state_space};
+            let kind = if hub_held { Reduction::HubHeld } else { Reduction::FreeFree };
+            py.detach(|| reduced_state_space(&s.model, &s.initial, &s.settings, at, &bodies, &outputs, count, kind))
+                .map_err(|e| format!("modes: {e}"))
+        }
+    }
+    .map_err(PyValueError::new_err)?;
     let d = PyDict::new(py);
     d.set_item("A", matrix(py, &ss.a)?)?;
     d.set_item("B", matrix(py, &ss.b)?)?;

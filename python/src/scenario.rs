@@ -185,7 +185,10 @@ impl Scenario {
     /// The linear state-space model at time `at` of the run (or the design state with
     /// `deployed`): a dict of A, B, C, D (NumPy arrays), y0, t, residual and the names of
     /// states, inputs and outputs (docs/linear.md).
-    #[pyo3(signature = (at = 0.0, deployed = false, inputs = None, outputs = None))]
+    /// With `modes`, reduced to that many modes (free-free, or with `hub_held` the hub and
+    /// the modes with the hub held).
+    #[pyo3(signature = (at = 0.0, deployed = false, inputs = None, outputs = None, modes = None, hub_held = false))]
+    #[allow(clippy::too_many_arguments)]
     fn linearize<'py>(
         &self,
         py: Python<'py>,
@@ -193,9 +196,11 @@ impl Scenario {
         deployed: bool,
         inputs: Option<Vec<String>>,
         outputs: Option<Vec<String>>,
+        modes: Option<usize>,
+        hub_held: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let scenario = self.text.build().map_err(|e| error(&self.text, self.from_dict, e))?;
-        crate::linear::linearize(py, scenario, at, deployed, inputs, outputs)
+        crate::linear::linearize(py, scenario, at, deployed, inputs, outputs, (modes, hub_held))
     }
 
     /// The modes at time `at` of the run (or the design state with `deployed`): every mode

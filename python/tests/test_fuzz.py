@@ -1,6 +1,6 @@
 """Fuzzing the Python values: random nested values (dicts, lists, tuples, NumPy arrays and
 scalars, bytes, None, sets, non-finite and huge numbers, odd strings, values that contain
-themselves) given to from_dict, with_values, get and sweep. Each must give a scenario or raise
+themselves) given to from_dict, with_values, get, sweep and linearize's keywords. Each must give a scenario or raise
 ValueError, TypeError or KeyError; never crash the interpreter, never another exception.
 
 A small budget as a test; longer: FOLDSIM_FUZZ_INPUTS=5000 FOLDSIM_FUZZ_SEED=7 pytest python/tests/test_fuzz.py
@@ -76,9 +76,12 @@ def test_python_values_give_a_scenario_or_a_named_exception():
     rng = random.Random(seed)
     counts = {"built": 0, "refused": 0}
     for i in range(n):
-        kind = rng.randrange(4)
+        kind = rng.randrange(5)
         try:
-            if kind == 0:
+            if kind == 4:
+                # The linear model, reduced or not, with any values for its keywords.
+                BASE.linearize(deployed=rng.random() < 0.8, modes=rng.choice([None, 1, 3, 6, leaf(rng)]), hub_held=rng.choice([False, True, leaf(rng)]))
+            elif kind == 0:
                 foldsim.from_dict(mutated_dict(rng))
             elif kind == 1:
                 BASE.with_values({rng.choice(PATHS): value(rng) for _ in range(1 + rng.randrange(2))})

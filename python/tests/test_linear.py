@@ -66,3 +66,21 @@ def test_bad_requests_say_what_is_valid():
         s.linearize(inputs=["nobody"])
     with pytest.raises(ValueError, match="run.duration"):
         s.modes(at=1e3)
+
+
+def test_reduced_models_have_their_rigid_poles_at_zero():
+    """linearize(modes=N): the free-free and hub-held reductions (docs/linear.md); their
+    twelve rigid-body poles are zero (NumPy's eigvals, no tolerance needed beyond 1e-12),
+    the flexible ones stable, 2 (6 + N) states."""
+    s = foldsim.load(ROOT / "examples" / "flasher-small.toml")
+    for hub_held in (False, True):
+        m = s.linearize(deployed=True, modes=6, hub_held=hub_held)
+        assert m["A"].shape == (24, 24)
+        poles = np.linalg.eigvals(m["A"])
+        assert (np.abs(poles) <= 1e-12).sum() == 12
+        assert poles.real.max() <= 1e-12
+    for bad in (0, -1, 2.5, "x", True):
+        with pytest.raises((ValueError, TypeError)):
+            s.linearize(deployed=True, modes=bad)
+    with pytest.raises(ValueError, match="modes"):
+        s.linearize(deployed=True, hub_held=True)

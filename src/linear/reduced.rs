@@ -19,8 +19,47 @@
 
 use super::Linearization;
 use super::modes::Modes;
-use super::statespace::StateSpace;
+use super::statespace::{StateSpace, state_space};
+use crate::kinematics::InitialConditions;
+use crate::model::Model;
+use crate::simulate::RunSettings;
 use nalgebra::DMatrix;
+
+/// Bodies up to which the modes for a reduction are taken densely (above: the `count` lowest
+/// by Lanczos).
+const DENSE_BODIES: usize = 200;
+
+/// The state-space model of `model` at time `at` of its run (as
+/// [`super::statespace::state_space`] takes it, `input_bodies` and `outputs` alike),
+/// reduced to `count` modes in the form `kind`: what `foldsim linearize --modes` writes.
+/// Fails unless the state is at rest and in balance.
+#[allow(clippy::too_many_arguments)]
+pub fn reduced_state_space(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    at: f64,
+    input_bodies: &[usize],
+    outputs: &[String],
+    count: usize,
+    kind: Reduction,
+) -> Result<StateSpace, String> {
+    if count == 0 {
+        return Err("keep at least one flexible mode".into());
+    }
+    let full = state_space(model, ic, settings, at, input_bodies, outputs)?;
+    let (lin, here) = super::linearize_at(model, ic, settings, at)?;
+    let apart = here.state.iter().zip(&full.state).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    if here.balanced.is_some() || here.unbalanced.is_some() || apart > 1e-9 {
+        return Err("the state is out of balance; a reduced model is taken about an equilibrium (the design state, or a state from `foldsim equilibrium`)".into());
+    }
+    let modes = if lin.bodies <= DENSE_BODIES {
+        Modes::of(&lin, &here.positions, &here.dcm_n_b)?
+    } else {
+        Modes::lowest(&lin, &here.positions, &here.dcm_n_b, count)?
+    };
+    reduce(&full, &lin, &modes, count, kind)
+}
 
 /// Which reduced form.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -155,6 +155,8 @@ class Scenario:
         deployed: bool = False,
         inputs: list[str] | str | None = None,
         outputs: list[str] | str | None = None,
+        modes: int | None = None,
+        hub_held: bool = False,
     ) -> dict:
         """The linear state-space model ``ẋ = A x + B u``, ``y = C x + D u`` at time `at` of
         the run, or about the design state with ``deployed=True`` (docs/linear.md): a dict
@@ -162,8 +164,17 @@ class Scenario:
         m["D"])`` in python-control), ``y0`` (the outputs at the state), ``t``, ``residual``
         and the names of ``states``, ``inputs`` and ``outputs``. `inputs`: the bodies that
         take force and torque inputs (default the hub); `outputs`: output column names or
-        patterns (default the hub's MRPs and rates)."""
-        return self._native.linearize(float(at), bool(deployed), _columns(inputs), _columns(outputs))
+        patterns (default the hub's MRPs and rates). `modes`: reduced to the six rigid-body
+        modes and that many flexible free-free modes, or with ``hub_held=True`` to the hub's
+        six coordinates and that many modes with the hub held; the rigid-body poles exactly
+        at zero (docs/linear.md, *Reduced models*; about a state at rest and in balance)."""
+        if modes is not None and (isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1):
+            raise ValueError(f"modes is a whole number ≥ 1 of flexible modes to keep, got {modes!r}")
+        if not isinstance(hub_held, (bool, np.bool_)):
+            raise TypeError(f"hub_held is True or False, got {hub_held!r}")
+        return self._native.linearize(
+            float(at), bool(deployed), _columns(inputs), _columns(outputs), None if modes is None else int(modes), bool(hub_held)
+        )
 
     def modes(self, at: float = 0.0, *, deployed: bool = False, count: int | None = None) -> dict:
         """The natural modes at time `at` of the run, or of the design state with

@@ -299,9 +299,6 @@ pub(crate) fn linearize(
     quiet: bool,
 ) -> Result<(), String> {
     use foldsim::linear::statespace::{default_outputs, outputs_matching, state_space};
-    if choice.count == Some(0) {
-        return Err("--modes 0: keep at least one flexible mode".into());
-    }
     use foldsim::output::npz::{Array, npz_bytes};
     let (mut scenario, target) = open(path, output, "-linear.npz", &[], &choice)?;
     let at = choice.at;
@@ -323,22 +320,15 @@ pub(crate) fn linearize(
         None => default_outputs(),
         Some(p) => outputs_matching(model, &p).map_err(|e| format!("--outputs: {e}"))?,
     };
-    let mut ss = state_space(&scenario.model, &scenario.initial, &scenario.settings, at, &bodies, &outputs)?;
-    if let Some(count) = choice.count {
-        use foldsim::linear::reduced::{Reduction, reduce};
-        let (lin, here) = linearize_at(&scenario.model, &scenario.initial, &scenario.settings, at)?;
-        let apart = here.state.iter().zip(&ss.state).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        if here.balanced.is_some() || here.unbalanced.is_some() || apart > 1e-9 {
-            return Err("--modes: the state is out of balance; a reduced model is taken about an equilibrium (--deployed, or a state from `foldsim equilibrium`)".into());
+    let ss = match choice.count {
+        None => state_space(&scenario.model, &scenario.initial, &scenario.settings, at, &bodies, &outputs)?,
+        Some(count) => {
+            use foldsim::linear::reduced::{Reduction, reduced_state_space};
+            let kind = if hub_held { Reduction::HubHeld } else { Reduction::FreeFree };
+            let (m, ic, set) = (&scenario.model, &scenario.initial, &scenario.settings);
+            reduced_state_space(m, ic, set, at, &bodies, &outputs, count, kind).map_err(|e| format!("--modes: {e}"))?
         }
-        let modes = if lin.bodies <= DENSE_BODIES {
-            Modes::of(&lin, &here.positions, &here.dcm_n_b)?
-        } else {
-            Modes::lowest(&lin, &here.positions, &here.dcm_n_b, count)?
-        };
-        let kind = if hub_held { Reduction::HubHeld } else { Reduction::FreeFree };
-        ss = reduce(&ss, &lin, &modes, count, kind).map_err(|e| format!("--modes: {e}"))?;
-    }
+    };
     let bytes = npz_bytes(&[
         ("A", Array::Matrix(&ss.a)),
         ("B", Array::Matrix(&ss.b)),

@@ -168,8 +168,10 @@ class Scenario:
         modes and that many flexible free-free modes, or with ``hub_held=True`` to the hub's
         six coordinates and that many modes with the hub held; the rigid-body poles exactly
         at zero (docs/linear.md, *Reduced models*; about a state at rest and in balance)."""
-        if modes is not None and (isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1):
-            raise ValueError(f"modes is a whole number ≥ 1 of flexible modes to keep, got {modes!r}")
+        if modes is not None and (
+            isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or not 1 <= modes <= 10**9
+        ):
+            raise ValueError(f"modes is a whole number from 1 to 1e9 of flexible modes to keep, got {modes!r}")
         if not isinstance(hub_held, (bool, np.bool_)):
             raise TypeError(f"hub_held is True or False, got {hub_held!r}")
         return self._native.linearize(

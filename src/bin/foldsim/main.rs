@@ -38,7 +38,7 @@ fn main() -> ExitCode {
             let page_target = page.as_deref().map(|p| (p, animation_fps));
             run::run(&scenario, (csv, contacts), columns, large_output, quiet, animation_target, page_target).and_then(
                 |(csv, frames)| match (page, frames) {
-                    (Some(page), Some(frames)) => view::view_run(&scenario, &csv, &page, frames),
+                    (Some(page), Some(frames)) => view::view_run(&scenario, &csv, &page, frames, quiet),
                     _ => Ok(()),
                 },
             )

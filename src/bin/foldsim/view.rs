@@ -49,20 +49,27 @@ pub(crate) fn view(
     columns: &[String],
 ) -> Result<(), String> {
     let (scenario, table, frames, kept) = finished_run(scenario_path, csv, output, fps, foldsim::output::paths::HTML)?;
-    write_page(scenario_path, &scenario, &table, &frames, &kept, columns, output)
+    write_page(scenario_path, &scenario, &table, &frames, &kept, columns, output, false)
 }
 
 /// `foldsim run --view`: the page of the run just made, its frames (with every contact the
 /// run saw between them) from the run itself, its plot from the CSV written.
 #[cfg(feature = "animation")]
-pub(crate) fn view_run(scenario_path: &Path, csv: &Path, output: &Path, frames: Frames) -> Result<(), String> {
+pub(crate) fn view_run(
+    scenario_path: &Path,
+    csv: &Path,
+    output: &Path,
+    frames: Frames,
+    quiet: bool,
+) -> Result<(), String> {
     let scenario = Scenario::from_file(scenario_path).map_err(|e| e.to_string())?;
     let table = foldsim::output::animation::Table::read(csv)?;
     let kept = frames.kept.clone();
-    write_page(scenario_path, &scenario, &table, &frames, &kept, &[], output)
+    write_page(scenario_path, &scenario, &table, &frames, &kept, &[], output, quiet)
 }
 
 #[cfg(feature = "animation")]
+#[allow(clippy::too_many_arguments)]
 fn write_page(
     scenario_path: &Path,
     scenario: &Scenario,
@@ -71,15 +78,18 @@ fn write_page(
     kept: &[usize],
     columns: &[String],
     output: &Path,
+    quiet: bool,
 ) -> Result<(), String> {
     let title = scenario.title.clone().unwrap_or_else(|| scenario_path.display().to_string());
     let html = foldsim::output::viewer::page(&title, &scenario.model, table, frames, kept, columns)?;
     foldsim::output::paths::write_atomically(output, html.as_bytes())?;
-    outln!(
-        "  viewer           {} frames, {:.1} MB -> {}",
-        frames.times.len(),
-        html.len() as f64 / 1e6,
-        output.display()
-    );
+    if !quiet {
+        outln!(
+            "  viewer           {} frames, {:.1} MB -> {}",
+            frames.times.len(),
+            html.len() as f64 / 1e6,
+            output.display()
+        );
+    }
     Ok(())
 }

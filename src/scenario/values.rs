@@ -230,20 +230,23 @@ impl<'de, T: serde::Deserialize<'de>, const N: usize> serde::Deserialize<'de> fo
                 }
             }
             fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Exact<T, N>, A::Error> {
-                let mut items = Vec::with_capacity(N);
-                while let Some(x) = seq.next_element::<T>()? {
-                    if items.len() == N {
-                        // Count the rest for the message, without keeping them.
-                        let mut len = N + 1;
-                        while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
-                            len += 1;
-                        }
-                        return Err(serde::de::Error::invalid_length(len, &self));
+                // On the stack: a scenario holds many of these, and a sweep reads it per run.
+                let mut items: [Option<T>; N] = std::array::from_fn(|_| None);
+                for (k, slot) in items.iter_mut().enumerate() {
+                    match seq.next_element::<T>()? {
+                        Some(x) => *slot = Some(x),
+                        None => return Err(serde::de::Error::invalid_length(k, &self)),
                     }
-                    items.push(x);
                 }
-                let len = items.len();
-                items.try_into().map(Exact).map_err(|_| serde::de::Error::invalid_length(len, &self))
+                // Count the rest for the message, without keeping them.
+                let mut len = N;
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    len += 1;
+                }
+                if len > N {
+                    return Err(serde::de::Error::invalid_length(len, &self));
+                }
+                Ok(Exact(items.map(|x| x.expect("filled above"))))
             }
         }
         d.deserialize_seq(Items(std::marker::PhantomData))

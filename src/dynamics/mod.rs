@@ -74,6 +74,9 @@ pub struct Dynamics<'m> {
     /// Contact over the run so far, at accepted steps.
     contact_record: RefCell<ContactRecord>,
     contact_log: RefCell<crate::contact::episodes::ContactLog>,
+    /// The contact points of the last state [`Self::contact_changes`] looked at: the step
+    /// end that is usually accepted next, whose points `accept_contacts` then reuses.
+    step_end_points: RefCell<Option<(Vec<f64>, Vec<ContactPoint>)>>,
     /// Per body: whether it touched another at an accepted step since the last
     /// [`Self::take_touched`].
     touched: RefCell<Vec<bool>>,
@@ -157,6 +160,7 @@ impl<'m> Dynamics<'m> {
             contact_memory: RefCell::new(ContactMemory::default()),
             contact_record: RefCell::new(ContactRecord::default()),
             contact_log: RefCell::new(Default::default()),
+            step_end_points: RefCell::new(None),
             touched: RefCell::new(vec![false; nb]),
             proximity: RefCell::new(None),
             evaluations: Cell::new(0),
@@ -269,8 +273,7 @@ impl<'m> Dynamics<'m> {
         let points = self.contact_points(y);
         let mut touched = std::mem::replace(&mut *self.touched.borrow_mut(), vec![false; self.model.bodies.len()]);
         let log = self.contact_log.borrow();
-        let impacts: Vec<ContactPoint> = points.iter().filter(|p| !log.is_resting(p)).copied().collect();
-        mark_touched(&impacts, &mut touched);
+        mark_touched(points.iter().filter(|p| !log.is_resting(p)), &mut touched);
         Some((ContactSummary::of(&points), touched))
     }
 
@@ -285,6 +288,7 @@ impl<'m> Dynamics<'m> {
         let mut changed: Vec<_> = now.iter().map(|p| p.key).filter(|k| !memory.contains_key(k)).collect();
         let in_now: std::collections::HashSet<_> = now.iter().map(|p| p.key).collect();
         changed.extend(memory.keys().filter(|k| !in_now.contains(k)).copied());
+        *self.step_end_points.borrow_mut() = Some((y.to_vec(), now));
         changed
     }
 
@@ -319,7 +323,11 @@ impl<'m> Dynamics<'m> {
             return;
         }
         self.refresh_proximity(y);
-        let points = self.contact_points(y);
+        // The step end's points, if the crossing check evaluated this very state already.
+        let points = match self.step_end_points.borrow_mut().take() {
+            Some((at, points)) if at.as_slice() == y => points,
+            _ => self.contact_points(y),
+        };
         self.contact_record.borrow_mut().record(t, &points);
         {
             let memory = self.contact_memory.borrow();
@@ -328,8 +336,7 @@ impl<'m> Dynamics<'m> {
         // The bodies in an impact are marked for the animation, not the stowed package
         // resting on itself (which would mark the whole wrap from t = 0).
         let log = self.contact_log.borrow();
-        let impacts: Vec<ContactPoint> = points.iter().filter(|p| !log.is_resting(p)).copied().collect();
-        mark_touched(&impacts, &mut self.touched.borrow_mut());
+        mark_touched(points.iter().filter(|p| !log.is_resting(p)), &mut self.touched.borrow_mut());
         drop(log);
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
@@ -560,7 +567,7 @@ impl<'m> Dynamics<'m> {
 }
 
 /// Marks both bodies of every point as touching.
-fn mark_touched(points: &[ContactPoint], touched: &mut [bool]) {
+fn mark_touched<'p>(points: impl Iterator<Item = &'p ContactPoint>, touched: &mut [bool]) {
     for p in points {
         touched[p.key.body as usize] = true;
         touched[p.key.other as usize] = true;

@@ -357,15 +357,15 @@ impl StreamOut<'_, '_, '_, '_> {
             return None;
         }
         // Points of one face meet another face all but at once (1e-12 s apart): one landing
-        // past every crossing within a hundredth of the step of the first, not one tiny step
+        // past every crossing within a tenth of the step of the first, not one tiny step
         // per point (which would drive the step size to the floor).
         let cluster = first + 0.1 * h;
         let last = roots.iter().copied().filter(|&r| r <= cluster).fold(first, f64::max);
         // Landed a millionth of the step past the root (the retaken step's own solution
         // differs from this dense output by its local error: ending just past the root, it
         // ends with the point's new status, and the next step does not find the crossing
-        // again a round-off after its start). A crossing in the first hundredth of the step
-        // is left to it (the bend so near its start costs little, and landing there would
+        // again a round-off after its start). A crossing in the first tenth of the step is
+        // left to it (the bend so near its start costs little, and landing there would
         // shrink the steps without end); one at its end needs no retaking.
         let land = last + 1e-6 * h;
         (first > step.t_prev + 0.1 * h && land < step.t - 1e-12 * step.t.abs().max(1.0)).then_some(land)

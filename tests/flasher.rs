@@ -19,6 +19,7 @@ fn params(run: RunText) -> SheetParams {
         title: "flasher test".into(),
         areal_density: 1.0,
         thickness: 0.0,
+        hinge_axes: foldsim::generate::sheet::HingeAxes::Shifted,
         hub_mass: 100.0,
         hub_inertia: [25.0, 25.0, 50.0],
         spin_rpm: 0.0,

@@ -14,7 +14,7 @@ mod common;
 
 use common::fuzz::{EXTREMES, Rng};
 use foldsim::generate::Params;
-use foldsim::generate::options::{FlasherOptions, grid_checked, panel_model, zfold_checked};
+use foldsim::generate::options::{FlasherOptions, grid_checked, hinge_axes, panel_model, zfold_checked};
 use foldsim::scenario::{Scenario, ScenarioText};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::AtomicBool;
@@ -323,6 +323,13 @@ fn fuzzed_generator_options_give_loadable_scenarios_or_name_the_option() {
                 const MODELS: [&str; 3] = ["triangles", "quads", "ring-quads"];
                 let model = MODELS[rng.below(3)];
                 o.panels = panel_model(model).unwrap();
+                // The hinge axes by name, as the command line gives them: a wrong name is
+                // refused naming the valid ones.
+                let axes = *rng.pick(&["shifted", "mid-plane", "", "Shifted", "membrane", "mid_plane"]);
+                match hinge_axes(axes) {
+                    Ok(h) => o.hinge_axes = h,
+                    Err(m) => assert!(m.contains("shifted or mid-plane"), "{what}: {m}"),
+                }
                 (format!("{what} flasher {o:?}"), o.scenario(&key).map(|(text, _)| text))
             }
         }));

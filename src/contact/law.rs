@@ -78,14 +78,19 @@ impl ContactLaw {
     }
 
     /// Normal force at penetration `depth` (m, > 0) closing at `rate` (m/s, > 0 approaching)
-    /// for a point that came into contact at `impact_speed` (m/s). Generic over the scalar
-    /// (the exact Jacobian runs it in dual numbers; the clamp is chosen on the real part).
-    pub fn normal<T: Real>(&self, depth: T, rate: T, impact_speed: f64) -> PointForce<T> {
+    /// for a point that came into contact at `impact_speed` (m/s; `None`: it comes into
+    /// contact now, at `rate`). Generic over the scalar (the exact Jacobian runs it in dual
+    /// numbers; the clamp is chosen on the real part).
+    pub fn normal<T: Real>(&self, depth: T, rate: T, impact_speed: Option<f64>) -> PointForce<T> {
         // δ^1.5 as δ √δ: the default exponent, at a fraction of pow's cost.
         let power = if self.exponent == 1.5 { depth * depth.sqrt() } else { depth.powf(real(self.exponent)) };
         let elastic = power * real(self.stiffness);
-        let v0 = impact_speed.max(self.min_impact_speed);
-        let factor = real::<T>(1.0) + rate * real(self.chi / v0);
+        let v0: T = match impact_speed {
+            Some(v) => real(v.max(self.min_impact_speed)),
+            None if re(rate) > self.min_impact_speed => rate,
+            None => real(self.min_impact_speed),
+        };
+        let factor = real::<T>(1.0) + rate * real(self.chi) / v0;
         let normal = if re(factor) > 0.0 { elastic * factor } else { real(0.0) };
         PointForce { normal, elastic, damping_power: (normal - elastic) * rate }
     }
@@ -181,6 +186,31 @@ pub fn damping_factor(e: f64, n: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The derivative the exact Jacobian takes of the normal force equals the force's own
+    /// rate of change (central differences, 1e-6 relative: their truncation), for a point in
+    /// contact since earlier (impact speed held) and for one that comes into contact now,
+    /// whose impact speed is its approach speed: then the damping factor is 1 + χ whatever
+    /// that speed, and the force does not change with it (the Jacobian took the speed for a
+    /// constant, and Newton met damping that the force did not have).
+    #[test]
+    fn the_normal_forces_derivative_is_its_rate_of_change() {
+        use num_dual::Dual64;
+        let law = ContactLaw::new(1e8, 1.5, 0.3, 0.2, 1e-3, 1e-3, 0.0);
+        for held in [Some(0.4), None] {
+            for rate in [0.3, 2e-4, -1e-4] {
+                let depth = 2e-5;
+                let f = |d: f64, r: f64| law.normal(d, r, held).normal;
+                let exact_d = law.normal(Dual64::new(depth, 1.0), Dual64::from(rate), held).normal.eps;
+                let exact_r = law.normal(Dual64::from(depth), Dual64::new(rate, 1.0), held).normal.eps;
+                let (hd, hr) = (1e-6 * depth, 1e-7 * rate.abs());
+                let fd_d = (f(depth + hd, rate) - f(depth - hd, rate)) / (2.0 * hd);
+                let fd_r = (f(depth, rate + hr) - f(depth, rate - hr)) / (2.0 * hr);
+                assert!((exact_d - fd_d).abs() <= 1e-6 * fd_d.abs().max(1e-9), "{held:?} {rate}: {exact_d} vs {fd_d}");
+                assert!((exact_r - fd_r).abs() <= 1e-6 * fd_r.abs().max(1e-9), "{held:?} {rate}: {exact_r} vs {fd_r}");
+            }
+        }
+    }
 
     /// Without damping the scaled law rebounds at the speed it came in (energy is
     /// conserved): e = 1 to the integration's accuracy.

@@ -478,7 +478,7 @@ impl ContactSet {
         impact_speed: Option<f64>,
     ) -> LocalForce<T> {
         let rate = -normal_in_b.dot(velocity_in_b);
-        let nf = self.law.normal(depth, rate, impact_speed.unwrap_or(re(rate)));
+        let nf = self.law.normal(depth, rate, impact_speed);
         let slip = velocity_in_b + normal_in_b * rate;
         let friction = self.law.friction_force(nf.normal, &slip);
         LocalForce {

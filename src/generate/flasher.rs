@@ -19,7 +19,7 @@
 //! (`H_k H_k+1 M_k,2`, then `V_k+1,i−1 V_k+1,i M_k,i` and `M_k,i V_k+1,i M_k,i+1`):
 //! `N (4n − 5)` triangles.
 
-use super::sheet::{CreaseLaw, Sense, Sheet, SheetParams, SheetReport, sheet_scenario};
+use super::sheet::{CreaseLaw, HingeAxes, Sense, Sheet, SheetParams, SheetReport, sheet_scenario};
 use crate::math::Vec3;
 use std::collections::{BTreeMap, VecDeque};
 use std::f64::consts::PI;
@@ -494,6 +494,8 @@ pub struct FlasherReport {
     pub strain_energy: f64,
     /// With thick panels: the panel thickness (m) and the outermost layer of the stowed wrap.
     pub layers: Option<(f64, usize)>,
+    /// Where the hinges' fold axes lie.
+    pub hinge_axes: HingeAxes,
 }
 
 /// The `[contact]` table written with thick panels.
@@ -547,7 +549,10 @@ pub fn flasher_scenario(
                 + 0.5 * laws.k_rotation * (s.pitch.powi(2) + s.roll.powi(2))
         })
         .sum();
-    Ok((text, FlasherReport { shape: *shape, geometry: f.geometry, sheet, strain_energy, layers }))
+    Ok((
+        text,
+        FlasherReport { shape: *shape, geometry: f.geometry, sheet, strain_energy, layers, hinge_axes: p.hinge_axes },
+    ))
 }
 
 impl FlasherReport {
@@ -599,19 +604,37 @@ impl FlasherReport {
         if let Some((h, outer)) = self.layers {
             let _ = writeln!(
                 out,
-                "thickness {h} m: stowed in nested layers 0 to {outer} out from the prism walls, face to face (gap 0 between layers), the package {:.6} m across; the hinges take up the layers' offsets (the stowed strain above)",
+                "thickness {h} m: stowed in nested layers 0 to {outer} out from the prism walls, face to face (gap 0 between layers), the package {:.6} m across",
                 self.geometry.stowed_diameter
                     + 2.0 * (outer as f64 + 1.0) * h / (std::f64::consts::PI / self.shape.gores as f64).cos()
             );
-            // The layers' offsets, and so the hinges' stowed deflections, grow in proportion
-            // to the thickness: the limit on the thickness is the hinges'.
-            let offset = worst.map_or(0.0, |w| w.delta.norm());
-            let _ = writeln!(
-                out,
-                "thickest panel: the layers nest at any thickness; the largest hinge offset is {:.3} thicknesses, so hinges that take an offset d stow panels up to d / {:.3} thick (for this hub and pattern)",
-                offset / h,
-                offset / h
-            );
+            let shift = s.strains.iter().max_by(|a, b| a.axis_shift.norm().total_cmp(&b.axis_shift.norm()));
+            match (self.hinge_axes, shift) {
+                (HingeAxes::Shifted, Some(w)) => {
+                    let moved = s.strains.iter().filter(|f| f.axis_shift.norm() > 1e-9 * h).count();
+                    let _ = writeln!(
+                        out,
+                        "hinge axes shifted (thickness accommodation): {moved} of {} hinge axes moved off their creases so that each stowed fold is a pure turn, by up to {:.3} thicknesses ({}: {:.3} across, {:.3} along the parent's normal); the deployed sheet is the thin pattern's, panels edge to edge (no gaps, diameter {:.6} m as without thickness; only the vertex cut-outs differ)",
+                        s.strains.len(),
+                        w.axis_shift.norm() / h,
+                        w.hinge,
+                        w.axis_shift.x / h,
+                        w.axis_shift.y / h,
+                        g.deployed_diameter
+                    );
+                }
+                _ => {
+                    // The layers' offsets, and so the hinges' stowed deflections, grow in
+                    // proportion to the thickness: the limit on the thickness is the hinges'.
+                    let offset = worst.map_or(0.0, |w| w.delta.norm());
+                    let _ = writeln!(
+                        out,
+                        "hinge axes in the mid-plane: the hinges take up the layers' offsets (the stowed strain above), the largest {:.3} thicknesses, so hinges that take an offset d stow panels up to d / {:.3} thick (for this hub and pattern)",
+                        offset / h,
+                        offset / h
+                    );
+                }
+            }
         }
         let mut folds: Vec<f64> = s.strains.iter().map(|f| f.fold.to_degrees()).collect();
         folds.sort_by(f64::total_cmp);
@@ -640,6 +663,7 @@ mod tests {
             title: "flasher".into(),
             areal_density: 1.0,
             thickness: 0.0,
+            hinge_axes: HingeAxes::Shifted,
             hub_mass: 100.0,
             hub_inertia: [25.0, 25.0, 50.0],
             spin_rpm: 0.0,

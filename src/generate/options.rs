@@ -4,7 +4,7 @@
 
 use super::flasher::{FlasherLaws, FlasherReport, FlasherShape, MAX_GORES, PanelModel, flasher_scenario};
 use super::params::{MAX_PANELS, Params, RunText};
-use super::sheet::SheetParams;
+use super::sheet::{HingeAxes, SheetParams};
 use crate::math::short;
 use crate::simulate::settings::{MAX_OUTPUT_ROWS, MIN_RTOL};
 
@@ -191,6 +191,8 @@ pub struct FlasherOptions {
     pub hub_radius: f64,
     /// Panel thickness, m (mass properties and shapes).
     pub thickness: f64,
+    /// Where the hinges' fold axes lie (thickness accommodation).
+    pub hinge_axes: HingeAxes,
     /// Mass per unit area of the panels, kg/m².
     pub areal_density: f64,
     /// Hub mass, kg.
@@ -223,6 +225,7 @@ impl Default for FlasherOptions {
             rings: 3,
             hub_radius: 1.0,
             thickness: 0.0,
+            hinge_axes: HingeAxes::Shifted,
             areal_density: 1.0,
             hub_mass: 100.0,
             hub_inertia: None,
@@ -389,6 +392,7 @@ impl FlasherOptions {
             title: format!("flasher, {} gores, {} rings, {}", self.gores, self.rings, self.panels.name()),
             areal_density: self.areal_density,
             thickness: self.thickness,
+            hinge_axes: self.hinge_axes,
             hub_mass: self.hub_mass,
             hub_inertia,
             spin_rpm: self.spin_rpm,
@@ -398,6 +402,14 @@ impl FlasherOptions {
         loadable(&text, &self.changed(name))?;
         Ok((text, report))
     }
+}
+
+/// The hinge axes named `name` (`shifted`, `mid-plane`).
+pub fn hinge_axes(name: &str) -> Result<HingeAxes, String> {
+    [HingeAxes::Shifted, HingeAxes::MidPlane]
+        .into_iter()
+        .find(|h| h.name() == name)
+        .ok_or_else(|| format!("hinge axes '{name}': give shifted or mid-plane"))
 }
 
 /// The panel model named `name` (`triangles`, `quads`, `ring-quads`).

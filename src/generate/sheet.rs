@@ -9,7 +9,9 @@
 //!   shape is the polygon (with the sheet's thickness) and its mass follows from the areal
 //!   density; panel 0 is the hub, with the mass and inertia given;
 //! - every crease is a hinge whose A0 and A frames coincide in the deployed state (so the
-//!   deployed design is stress-free), with their origin at the crease's midpoint and their
+//!   deployed design is stress-free), with their origin at the crease's midpoint (or, for
+//!   thick panels, moved across the crease onto the line about which the stowed fold is a
+//!   pure turn: [`HingeAxes`]) and their
 //!   z axis along the crease, so a fold is a yaw, far from the 3-2-1 singularity even near
 //!   180°; hinges of a spanning tree from the hub take the stowed state as their initial
 //!   values; the others close loops, with their A0 assembled in the deployed design;
@@ -73,6 +75,9 @@ pub struct HingeStrain {
     pub pitch: f64,
     /// See `pitch`.
     pub roll: f64,
+    /// How far the fold axis was moved off the crease's midpoint, m, A0 components (x across
+    /// the crease in the parent's plane, y the parent's normal; [`HingeAxes`]).
+    pub axis_shift: Vec3,
 }
 
 impl HingeStrain {
@@ -108,6 +113,8 @@ pub struct SheetParams {
     pub areal_density: f64,
     /// Panel thickness, m (≥ 0; mass properties only).
     pub thickness: f64,
+    /// Where each hinge's fold axis lies (thickness accommodation; docs/flasher.md).
+    pub hinge_axes: HingeAxes,
     /// Hub mass, kg.
     pub hub_mass: f64,
     /// Hub principal inertia about its centroid in its frame (x along its first edge, z its
@@ -117,6 +124,49 @@ pub struct SheetParams {
     pub spin_rpm: f64,
     /// The `[run]` table.
     pub run: RunText,
+}
+
+/// Where a hinge's fold axis lies across its crease.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HingeAxes {
+    /// Each axis moved off the crease, in the plane across it, to the one line about which a
+    /// pure turn by the stowed fold carries the child from its deployed to its stowed place
+    /// relative to the parent ("hinge shift", Lang et al., Appl. Mech. Rev. 70:010805, 2018,
+    /// §4): both states free of hinge strain with thick panels. With zero thickness the
+    /// line is the crease.
+    #[default]
+    Shifted,
+    /// Every axis on its crease, in the panels' mid-plane: thick panels' stowed layer offsets
+    /// are then taken up by stretching the hinges.
+    MidPlane,
+}
+
+impl HingeAxes {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Shifted => "shifted",
+            Self::MidPlane => "mid-plane",
+        }
+    }
+}
+
+/// Below this |det(I − R)| (a fold within ~1e-4 rad of flat) no axis is moved: a turn that
+/// small cannot carry an offset, m-free.
+const LEAST_TURN_FOR_SHIFT: f64 = 1e-8;
+
+/// The point `c` (m, A0 components, in A0's x-y plane across the crease) about which the
+/// stowed turn `r` = [A0 A] carries the stowed offset `d` (A's origin from A0's, A0
+/// components, both taken at the crease's midpoint): moving both frames' origins to `c`
+/// changes δ by `(R − I) c` (rigid panels), so `(I − R) c = d` in the plane across the fold
+/// axis z. Zero where the fold is too small to carry an offset.
+fn hinge_shift(d: &Vec3, r: &Mat3) -> Vec3 {
+    let (a, b, c, e) = (1.0 - r[(0, 0)], -r[(0, 1)], -r[(1, 0)], 1.0 - r[(1, 1)]);
+    let det = a * e - b * c;
+    if d.norm() == 0.0 || det.abs() < LEAST_TURN_FOR_SHIFT {
+        return Vec3::zeros();
+    }
+    Vec3::new((e * d.x - b * d.y) / det, (a * d.y - c * d.x) / det, 0.0)
 }
 
 /// What the builder found.
@@ -378,7 +428,8 @@ pub fn sheet_scenario(
     let mut initial = String::new();
     for (c, &(a, b, p1, p2)) in creases.iter().enumerate() {
         let (parent, child) = if order[p1] < order[p2] { (p1, p2) } else { (p2, p1) };
-        // A0 = A in the deployed design: origin at the crease's midpoint, z along it, y the
+        // A0 = A in the deployed design: origin at the crease's midpoint (moved across it by
+        // `axis_shift`), z along it, y the
         // parent's normal, x = y × z in its plane. Then [A0 p] is a yaw and a 90° roll, far
         // from the 3-2-1 singularity its angles would meet with z in the plane otherwise.
         let (cp, rp) = deployed_pose[parent];
@@ -387,9 +438,23 @@ pub fn sheet_scenario(
         let z = (dep[b] - dep[a]).normalize();
         let x = rp.column(2).cross(&z).normalize();
         let frame = Mat3::from_columns(&[x, z.cross(&x), z]);
-        let r_a0_in_parent = rp.transpose() * (mid - cp);
+        // The stowed state of the hinge: A0 and A in N, and δ (A0 components) with both
+        // frames' origins at the deployed point `q`, from the two panels' stowed poses.
+        let (sp, rps) = stowed_pose[parent];
+        let (sc, rcs) = stowed_pose[child];
+        let a0_n = rps * rp.transpose() * frame;
+        let a_n = rcs * rc.transpose() * frame;
+        let delta_at = |q: Vec3| {
+            a0_n.transpose() * ((sc + rcs * (rc.transpose() * (q - cc))) - (sp + rps * (rp.transpose() * (q - cp))))
+        };
+        let axis_shift = match p.hinge_axes {
+            HingeAxes::Shifted => hinge_shift(&delta_at(mid), &(a0_n.transpose() * a_n)),
+            HingeAxes::MidPlane => Vec3::zeros(),
+        };
+        let origin = mid + frame * axis_shift;
+        let r_a0_in_parent = rp.transpose() * (origin - cp);
         let theta_a0_p = Euler321::from_dcm(&(frame.transpose() * rp));
-        let child_com = frame.transpose() * (cc - mid);
+        let child_com = frame.transpose() * (cc - origin);
         let theta_c_a = Euler321::from_dcm(&(rc.transpose() * frame));
         let hname = format!("h{c}_{}_{}", name(parent), name(child));
         let l = law(a, b);
@@ -421,15 +486,8 @@ pub fn sheet_scenario(
             l.c_rotation,
             l.c_fold
         );
-        // The stowed state of the hinge: [A A0] and δ from the two panels' stowed poses.
-        let (sp, rps) = stowed_pose[parent];
-        let (sc, rcs) = stowed_pose[child];
-        let a0_n = rps * rp.transpose() * frame;
-        let a_n = rcs * rc.transpose() * frame;
-        let origin_a0 = sp + rps * r_a0_in_parent;
-        let origin_a = sc + rcs * (rc.transpose() * (mid - cc));
         let mut theta = Euler321::from_dcm(&(a_n.transpose() * a0_n));
-        let delta = a0_n.transpose() * (origin_a - origin_a0);
+        let delta = delta_at(origin);
         if let Some(&sense) = sheet.senses.get(&(a, b)) {
             // Valley: the child turns towards the parent's top, A0's y axis (docs/flasher.md).
             let side = frame.column(0).dot(&(cc - mid)).signum();
@@ -449,6 +507,7 @@ pub fn sheet_scenario(
             delta,
             pitch: theta.pitch,
             roll: theta.roll,
+            axis_shift,
         });
         if !tree[c] && theta.yaw.abs() > PI - FLAT_FOLD {
             let _ = writeln!(
@@ -498,6 +557,7 @@ mod tests {
             title: "test sheet".into(),
             areal_density: 2.0,
             thickness: 0.01,
+            hinge_axes: HingeAxes::Shifted,
             hub_mass: 50.0,
             hub_inertia: [10.0, 10.0, 18.0],
             spin_rpm: 0.0,
@@ -591,6 +651,56 @@ mod tests {
         let drift = energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
         assert!(drift < 1e-8 * e0, "E drifts by {drift:e} J of {e0} J");
         assert!(folds.last().unwrap() < &folds[0], "the sheet opens: {folds:?}");
+    }
+
+    /// Thick panels offset when stowed (the x < 0 half also moved by `o`, across the fold
+    /// axis y, as a layer is): with the axes shifted every hinge is closed in the stowed state
+    /// (δ, pitch and roll within round-off, 1e-12) though the panels sit offset, the two
+    /// folded creases' axes moved, the flat ones not; in the mid-plane the folded hinges are
+    /// stretched by the offset (|δ| of the order of |o|, well above 1e-3 m).
+    #[test]
+    fn shifted_axes_take_a_stowed_offset_without_strain() {
+        let o = Vec3::new(0.013, 0.0, 0.021);
+        let mut sheet = folded_square();
+        sheet.stowed_offsets =
+            sheet.panels.iter().map(|n| if sheet.deployed[n[2]].x < 0.0 { o } else { Vec3::zeros() }).collect();
+        let (text, report) = sheet_scenario(&sheet, |_, _| LAW, &params()).expect("built");
+        assert!(report.strains.iter().all(|f| f.off_axis() < 1e-12), "{report:?}");
+        let moved: Vec<f64> = report.strains.iter().map(|f| f.axis_shift.norm()).collect();
+        assert_eq!(moved.iter().filter(|&&m| m > 1e-3).count(), 2, "{moved:?}");
+        assert_eq!(moved.iter().filter(|&&m| m == 0.0).count(), 2, "{moved:?}");
+        let s = Scenario::from_toml(&text, "sheet").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let (y, _) = initial_state(&s.model, &s.initial);
+        let refs = vec![Euler321::default(); s.model.hinges.len()];
+        for (i, h) in s.model.hinges.iter().enumerate() {
+            let k = crate::kinematics::hinge_kinematics(
+                h,
+                &BodyMotion::from_state(&y, h.parent),
+                &BodyMotion::from_state(&y, h.child),
+                &refs[i],
+            );
+            assert!(k.state.delta_in_a0.norm() < 1e-12, "{}: δ = {}", h.name, k.state.delta_in_a0);
+        }
+        let mid = SheetParams { hinge_axes: HingeAxes::MidPlane, ..params() };
+        let (_, report) = sheet_scenario(&sheet, |_, _| LAW, &mid).expect("built");
+        let stretched = report.strains.iter().map(|f| f.delta.norm()).fold(0.0, f64::max);
+        assert!(stretched > 1e-3, "{stretched}");
+        assert!(report.strains.iter().all(|f| f.axis_shift == Vec3::zeros()));
+    }
+
+    /// `hinge_shift` solves `(I − R) c = d` across the axis: a turn by θ about the shifted
+    /// line carries the crease's point by d (to 1e-15 relative), for folds from 1° to 180°
+    /// either way; a flat fold moves nothing.
+    #[test]
+    fn the_shift_is_the_turns_fixed_line() {
+        let d = Vec3::new(-0.0563, 0.0125, 0.0);
+        for deg in [1.0, 60.0, -90.0, 179.0, 180.0, -180.0] {
+            let r = Euler321::new(f64::to_radians(deg), 0.0, 0.0).to_dcm().transpose();
+            let c = hinge_shift(&d, &r);
+            let moved = c - r * c;
+            assert!((moved - d).norm() < 1e-15 * c.norm().max(1.0), "{deg}°: {moved} vs {d}");
+        }
+        assert_eq!(hinge_shift(&d, &Mat3::identity()), Vec3::zeros());
     }
 
     #[test]

@@ -307,6 +307,12 @@ pub struct FlasherArgs {
     /// when stowed) or triangles (a bending hinge on each quad's diagonal).
     #[arg(long, default_value = "triangles", value_parser = ["triangles", "quads", "ring-quads"])]
     pub panels: String,
+    /// Where the hinges' fold axes lie with thick panels: shifted (each moved across its crease
+    /// onto the line about which the stowed fold is a pure turn, so neither the stowed wrap
+    /// nor the deployed sheet strains the hinges) or mid-plane (on the crease, the hinges
+    /// stretched by the layers' offsets when stowed). docs/flasher.md, Thick panels.
+    #[arg(long, default_value = "shifted", value_parser = ["shifted", "mid-plane"])]
+    pub hinge_axes: String,
     /// Fold damping of the creases, N·m·s/rad.
     #[arg(long, default_value_t = FlasherOptions::default().laws.c_fold)]
     pub c_fold: f64,

@@ -60,7 +60,7 @@ pub(crate) fn generate_flasher(
     output: Option<PathBuf>,
 ) -> Result<(), String> {
     use foldsim::generate::flasher::FlasherLaws;
-    use foldsim::generate::options::{FlasherOptions, panel_model};
+    use foldsim::generate::options::{FlasherOptions, hinge_axes, panel_model};
     check_output(&output)?;
     let hub_inertia = match a.hub_inertia.as_deref() {
         None => None,
@@ -77,6 +77,7 @@ pub(crate) fn generate_flasher(
         rings: a.rings,
         hub_radius: a.hub_radius,
         thickness: a.thickness,
+        hinge_axes: hinge_axes(&a.hinge_axes)?,
         areal_density: a.areal_density,
         hub_mass: a.hub_mass,
         hub_inertia,

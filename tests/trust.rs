@@ -335,7 +335,7 @@ fn an_overflowing_inertia_is_not_positive_definite() {
     assert!(e.is_none(), "a large but valid inertia is taken: {e:?}");
 }
 
-/// A run that will take long says so after a second, even under --quiet, and a hinge placed
+/// A run that will take long says so after two seconds, even under --quiet, and a hinge placed
 /// absurdly far from its body draws a located warning; off a terminal, progress lines come
 /// at the interval asked for (30 s unless FOLDSIM_PROGRESS_EVERY says otherwise).
 #[test]
@@ -364,7 +364,7 @@ fn long_runs_say_so_early_and_report_progress_off_a_terminal() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(2500));
+    std::thread::sleep(std::time::Duration::from_millis(3500));
     child.kill().unwrap();
     let o = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);

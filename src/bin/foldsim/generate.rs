@@ -24,10 +24,12 @@ pub(crate) fn generate(shape: Shape, p: &foldsim::generate::Params, output: Opti
     Ok(())
 }
 
-/// How long `foldsim run` of generated scenario text will take, from a half-second trial.
+/// How long `foldsim run` of generated scenario text will take, from a trial of half a
+/// second, or two with contact (a packed start is the slowest part of such a run: its trend
+/// needs a few seconds to show; `estimate::Trend`).
 fn expected_run_time(text: &str) -> Result<String, String> {
     let s = foldsim::scenario::Scenario::from_toml(text, "the generated scenario").map_err(|e| e.to_string())?;
-    let budget = std::time::Duration::from_millis(500);
+    let budget = std::time::Duration::from_millis(if s.model.contact.is_some() { 2000 } else { 500 });
     Ok(foldsim::simulate::estimate::estimate(&s.model, &s.initial, &s.settings, budget).describe())
 }
 

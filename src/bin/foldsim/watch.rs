@@ -1,10 +1,11 @@
 //! What a long command says while it works, beyond the progress bar on a terminal: a
 //! one-line report to standard error at least every [`REPORT_EVERY`] when standard error is
-//! not a terminal (scripts, notebooks, CI), and, once, after a second of wall time, a note
-//! when the whole run is projected to take more than [`LONG`] (even under `--quiet`: a run
-//! of hours should never start in silence).
+//! not a terminal (scripts, notebooks, CI), and, once, after [`NOTE_AFTER`] of wall time, a
+//! note when the whole run is projected to take more than [`LONG`] (even under `--quiet`: a
+//! run of hours should never start in silence). Projections follow the run's trend
+//! (`foldsim::simulate::estimate::Trend`): a deployment from a packed start speeds up.
 
-use foldsim::simulate::estimate::human_seconds;
+use foldsim::simulate::estimate::{Trend, human_seconds};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -22,6 +23,10 @@ fn report_every() -> Duration {
 /// A run projected longer than this says so early.
 pub(crate) const LONG: f64 = 60.0;
 
+/// When the note comes, s of wall time: a packed start's trend shows after about two seconds
+/// (docs/outputs.md has the measurements).
+pub(crate) const NOTE_AFTER: f64 = 2.0;
+
 /// Watches one command's progress.
 pub(crate) struct Watch {
     what: &'static str,
@@ -30,6 +35,7 @@ pub(crate) struct Watch {
     lines: bool,
     every: Duration,
     warned: bool,
+    trend: Trend,
 }
 
 impl Watch {
@@ -37,7 +43,15 @@ impl Watch {
     pub(crate) fn new(what: &'static str, quiet: bool) -> Self {
         let now = Instant::now();
         let lines = !quiet && !std::io::stderr().is_terminal();
-        Self { what, started: now, last_report: now, lines, every: report_every(), warned: false }
+        Self {
+            what,
+            started: now,
+            last_report: now,
+            lines,
+            every: report_every(),
+            warned: false,
+            trend: Trend::default(),
+        }
     }
 
     /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`);
@@ -45,8 +59,9 @@ impl Watch {
     /// shorten it.
     pub(crate) fn tick(&mut self, done: f64, total: f64, unit: &str, hint: impl FnOnce() -> String) {
         let wall = self.started.elapsed().as_secs_f64();
-        let left = if done > 0.0 { wall * (total - done) / done } else { f64::INFINITY };
-        if !self.warned && wall >= 1.0 {
+        self.trend.add(wall, done);
+        let left = self.trend.projected(total) - wall;
+        if !self.warned && wall >= NOTE_AFTER {
             self.warned = true;
             if wall + left > LONG {
                 let projected =

@@ -19,7 +19,7 @@ pub struct Progress<'p, 'm> {
     /// Law events, lock engagements and restarts so far.
     pub(super) events: usize,
     /// Accepted steps so far.
-    pub(super) steps: usize,
+    pub steps: usize,
 }
 
 impl Progress<'_, '_> {

@@ -112,7 +112,7 @@ pub(crate) fn run(
     let mut watch = crate::watch::Watch::new("foldsim run", quiet);
     let mut tick = |p: &foldsim::simulate::Progress<'_, '_>| {
         let t = p.t;
-        watch.tick(t, duration, "s", || {
+        watch.tick(t, duration, "s", Some(p.steps), || {
             // Before its first step a run has no step size to show (a large model with
             // contact can take seconds over it).
             let steps = if p.step > 0.0 {

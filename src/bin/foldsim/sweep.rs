@@ -68,7 +68,9 @@ pub(crate) fn sweep(
     let mut done = 0usize;
     let result = sweep.run(0..total, workers, &stop, &mut |row| {
         done += 1;
-        watch.tick(done as f64, total as f64, "runs", || "fewer runs, shorter runs, or more workers shorten it".into());
+        watch.tick(done as f64, total as f64, "runs", None, || {
+            "fewer runs, shorter runs, or more workers shorten it".into()
+        });
         failed += usize::from(row.error.is_some());
         if first_error.is_none() {
             first_error = row.error.as_ref().map(|e| format!("run {}: {e}", row.run));

@@ -54,12 +54,20 @@ impl Watch {
         }
     }
 
-    /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`);
+    /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`), in
+    /// `steps` accepted steps (a run's; `None` for runs of a sweep);
     /// `hint` says, when asked (once, for a long run), what holds it back and what would
     /// shorten it.
-    pub(crate) fn tick(&mut self, done: f64, total: f64, unit: &str, hint: impl FnOnce() -> String) {
+    pub(crate) fn tick(
+        &mut self,
+        done: f64,
+        total: f64,
+        unit: &str,
+        steps: Option<usize>,
+        hint: impl FnOnce() -> String,
+    ) {
         let wall = self.started.elapsed().as_secs_f64();
-        self.trend.add(wall, done);
+        self.trend.add(wall, done, steps);
         let left = self.trend.projected(total) - wall;
         if !self.warned && wall >= NOTE_AFTER {
             self.warned = true;

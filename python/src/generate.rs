@@ -3,7 +3,7 @@
 
 use crate::scenario::Scenario;
 use foldsim::generate::Params;
-use foldsim::generate::options::{FlasherOptions, grid_checked, panel_model, zfold_checked};
+use foldsim::generate::options::{FlasherOptions, grid_checked, hinge_axes, panel_model, zfold_checked};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -103,9 +103,10 @@ pub fn grid(rows: usize, cols: usize, options: Option<&Bound<'_, PyDict>>) -> Py
 #[pyfunction]
 #[pyo3(signature = (gores, rings, **options))]
 pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) -> PyResult<(Scenario, String)> {
-    const KNOWN: [&str; 20] = [
+    const KNOWN: [&str; 21] = [
         "hub_radius",
         "thickness",
+        "hinge_axes",
         "areal_density",
         "hub_mass",
         "hub_inertia",
@@ -149,6 +150,10 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
             }
             "panels" => {
                 o.panels = panel_model(&v.extract::<String>()?).map_err(PyValueError::new_err)?;
+                return Ok(true);
+            }
+            "hinge_axes" => {
+                o.hinge_axes = hinge_axes(&v.extract::<String>()?).map_err(PyValueError::new_err)?;
                 return Ok(true);
             }
             "integrator" => {

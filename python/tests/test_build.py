@@ -83,5 +83,13 @@ def test_generators_equal_the_cli(tmp_path: Path):
         foldsim.generate.flasher(6, 3, k_fold=-1.0)
     with pytest.raises(ValueError, match="gores must be 3 to 1000"):
         foldsim.generate.flasher(2, 3)
+    # Thick panels: the hinge axes shifted by default (the wrap stows without strain), or in
+    # the mid-plane (the hinges stretched by the layers' offsets), as on the command line.
+    _, shifted = foldsim.generate.flasher(5, 2, thickness=0.01)
+    _, mid = foldsim.generate.flasher(5, 2, thickness=0.01, hinge_axes="mid-plane")
+    assert "hinge axes shifted" in shifted and "stowed strain: none" in shifted, shifted
+    assert "hinge axes in the mid-plane" in mid and "stowed strain: largest" in mid, mid
+    with pytest.raises(ValueError, match="give shifted or mid-plane"):
+        foldsim.generate.flasher(5, 2, thickness=0.01, hinge_axes="membrane")
     with pytest.raises(ValueError, match="unknown option 'k_flod'.*k_fold"):
         foldsim.generate.zfold(3, k_flod=1.0)

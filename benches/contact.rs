@@ -12,7 +12,9 @@
 //! state times how many of each the run made: right-hand sides, of which the contact part
 //! is the difference to the same state without `[contact]`, Jacobians with factorization,
 //! Newton solves).
-//! Run: `cargo bench --bench contact` (`-- --repeat N`; `-- --full-only` for the second part).
+//! Then stacks of ten and fifty plates at rest (`stacks`).
+//! Run: `cargo bench --bench contact` (`-- --repeat N`; `-- --full-only` for the second part
+//! and the stacks, `-- --stacks-only` for the stacks alone).
 
 use foldsim::dynamics::Dynamics;
 use foldsim::dynamics::newton::GraphNewton;
@@ -68,7 +70,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.iter().any(|a| a == "--help" || a == "-h") {
         println!(
-            "cargo bench --bench contact [-- --repeat N]: the starshade with and without contact, nothing touching"
+            "cargo bench --bench contact [-- --repeat N] [--full-only | --stacks-only]: the starshade with and without contact, nothing touching; the thick flasher's stowed start in full contact; stacks of 10 and 50 plates at rest"
         );
         return;
     }

@@ -574,6 +574,22 @@ mod tests {
         c_rotation: 0.0,
     };
 
+    /// Every hinge of `s` is closed at the state `y`: δ, pitch and roll within round-off
+    /// (1e-12 m, rad).
+    fn assert_closed(s: &Scenario, y: &[f64]) {
+        let refs = vec![Euler321::default(); s.model.hinges.len()];
+        for (i, h) in s.model.hinges.iter().enumerate() {
+            let k = crate::kinematics::hinge_kinematics(
+                h,
+                &BodyMotion::from_state(y, h.parent),
+                &BodyMotion::from_state(y, h.child),
+                &refs[i],
+            );
+            assert!(k.state.delta_in_a0.norm() < 1e-12, "{}: δ = {}", h.name, k.state.delta_in_a0);
+            assert!(k.state.theta.pitch.abs() < 1e-12 && k.state.theta.roll.abs() < 1e-12, "{}", h.name);
+        }
+    }
+
     /// A square sheet of four panels round a vertex (one loop), folded by 120° about the
     /// y axis: the two creases on it fold, the two on the x axis stay flat, and the loop
     /// closes in both states.
@@ -624,17 +640,7 @@ mod tests {
             assert!((r - stowed_centroid).norm() < 1e-12, "panel {k}: {r} vs {stowed_centroid}");
         }
         // Every hinge, the loop one included, is closed in the stowed state.
-        let refs = vec![Euler321::default(); s.model.hinges.len()];
-        for (i, h) in s.model.hinges.iter().enumerate() {
-            let k = crate::kinematics::hinge_kinematics(
-                h,
-                &BodyMotion::from_state(&y, h.parent),
-                &BodyMotion::from_state(&y, h.child),
-                &refs[i],
-            );
-            assert!(k.state.delta_in_a0.norm() < 1e-12, "{}: δ = {}", h.name, k.state.delta_in_a0);
-            assert!(k.state.theta.pitch.abs() < 1e-12 && k.state.theta.roll.abs() < 1e-12, "{}", h.name);
-        }
+        assert_closed(&s, &y);
         // Released, the stored fold energy opens the sheet, conserving E (law 2 undamped):
         // to 1e-8 relative at rtol 1e-9 over 1 s, where frames off by round-off would leave
         // the loop preloaded and a wrong one would make it ring.
@@ -671,16 +677,7 @@ mod tests {
         assert_eq!(moved.iter().filter(|&&m| m == 0.0).count(), 2, "{moved:?}");
         let s = Scenario::from_toml(&text, "sheet").unwrap_or_else(|e| panic!("{e}\n{text}"));
         let (y, _) = initial_state(&s.model, &s.initial);
-        let refs = vec![Euler321::default(); s.model.hinges.len()];
-        for (i, h) in s.model.hinges.iter().enumerate() {
-            let k = crate::kinematics::hinge_kinematics(
-                h,
-                &BodyMotion::from_state(&y, h.parent),
-                &BodyMotion::from_state(&y, h.child),
-                &refs[i],
-            );
-            assert!(k.state.delta_in_a0.norm() < 1e-12, "{}: δ = {}", h.name, k.state.delta_in_a0);
-        }
+        assert_closed(&s, &y);
         let mid = SheetParams { hinge_axes: HingeAxes::MidPlane, ..params() };
         let (_, report) = sheet_scenario(&sheet, |_, _| LAW, &mid).expect("built");
         let stretched = report.strains.iter().map(|f| f.delta.norm()).fold(0.0, f64::max);

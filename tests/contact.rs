@@ -476,7 +476,13 @@ fn proximity_list_finds_every_contact() {
             let (mut full, mut fast) = (Vec::new(), Vec::new());
             set.evaluate(&now, &memory, &mut Default::default(), &mut full);
             set.evaluate_near(&now, &memory, &near, &mut Default::default(), &mut fast);
-            assert_eq!(full, fast, "row {k}, list from {lag} rows before");
+            if full != fast {
+                let missed: Vec<_> = full.iter().filter(|p| !fast.contains(p)).map(|p| (p.key, p.depth)).collect();
+                let extra: Vec<_> = fast.iter().filter(|p| !full.contains(p)).map(|p| (p.key, p.depth)).collect();
+                panic!(
+                    "row {k}, list from {lag} rows before: the list missed {missed:?} and found {extra:?} beyond the full search"
+                );
+            }
             compared += 1;
             with_contact += usize::from(!full.is_empty());
         }

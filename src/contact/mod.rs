@@ -15,7 +15,7 @@ use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as PVec;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
-use proximity::Proximity;
+use proximity::{NearSample, Proximity};
 use solid::{Sample, Solid};
 use std::collections::{HashMap, HashSet};
 
@@ -165,6 +165,8 @@ pub struct Workspace {
     bvh: BvhWorkspace,
     /// Per body, its motion since the proximity list's reference.
     motion: Vec<f64>,
+    /// The samples of one body to probe against another.
+    near: Vec<u32>,
 }
 
 impl std::fmt::Debug for Workspace {
@@ -261,12 +263,34 @@ impl ContactSet {
         if !near.motion(frames, &mut ws.motion) {
             return self.evaluate(frames, memory, ws, out);
         }
-        for &(a, b, gap) in &near.pairs {
-            if ws.motion[a] + ws.motion[b] < gap {
+        for pair in &near.pairs {
+            // The two bodies' motions relative to the first body bound their relative one.
+            if ws.motion[pair.a] + ws.motion[pair.b] + SLACK < pair.gap {
                 continue;
             }
-            self.probe(a, b, frames, memory, out);
-            self.probe(b, a, frames, memory, out);
+            for (body, other, side) in [(pair.a, pair.b, &pair.a_in_b), (pair.b, pair.a, &pair.b_in_a)] {
+                if side.samples.is_empty() {
+                    continue;
+                }
+                let (fa, fb) = (&frames[body], &frames[other]);
+                // As in `probe`: a sample's centre in `other`'s frame is dcm_b_a p + r_ab.
+                let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
+                let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
+                let (shift, chord) = pair.motion(body == pair.a, &dcm_b_a, &r_ab);
+                // A sample has moved by at most |Δr| + chord |p| in `other`'s frame; the
+                // samples come least gap first, so the first beyond every reach ends them.
+                let most = shift + chord * side.reach + SLACK;
+                ws.near.clear();
+                for s in side.samples.iter().take_while(|s| s.gap < most) {
+                    if s.gap < shift + chord * s.reach + SLACK {
+                        ws.near.push(s.index);
+                    }
+                }
+                ws.near.sort_unstable();
+                for &k in &ws.near {
+                    self.probe_sample(body, other, k as usize, (fa, fb), (&dcm_b_a, &r_ab), None, memory, out);
+                }
+            }
         }
     }
 
@@ -278,20 +302,19 @@ impl ContactSet {
         ws.pairs
     }
 
-    /// The gap between `body`'s samples (crease samples left out) and `other`'s solid at
-    /// `frames`, m: the least `d − ρ` over the samples, or `cap` if that is larger. Branch
-    /// and bound over the sample groups: a group whose sphere is no nearer than the least
-    /// found so far is not opened.
-    pub fn gap(&self, body: usize, other: usize, frames: &[Frame], cap: f64) -> f64 {
-        let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return f64::INFINITY };
+    /// `body`'s samples (crease samples left out) that come within `cap` m of `other`'s solid
+    /// at `frames`, in index order: each one's index, its gap `d − ρ` (m; ≤ 0 in contact) and
+    /// its centre's distance from `body`'s origin (m). A sample group whose sphere is `cap`
+    /// or more from the solid is not opened (the distance is 1-Lipschitz).
+    pub fn near_samples(&self, body: usize, other: usize, frames: &[Frame], cap: f64) -> Vec<NearSample> {
+        let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return Vec::new() };
         let (fa, fb) = (&frames[body], &frames[other]);
         let crease = self.crease.get(&(body, other));
         let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
         let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
-        let mut gap = cap;
+        let mut near = Vec::new();
         for (run, centre, radius) in &sa.groups {
-            let bound = sb.signed_distance(&(dcm_b_a * centre + r_ab)).0 - radius;
-            if bound >= gap {
+            if sb.signed_distance(&(dcm_b_a * centre + r_ab)).0 - radius >= cap {
                 continue;
             }
             for k in run.clone() {
@@ -299,10 +322,13 @@ impl ContactSet {
                     continue;
                 }
                 let s = &sa.samples[k];
-                gap = gap.min(sb.signed_distance(&(dcm_b_a * s.point_in_body + r_ab)).0 - s.radius);
+                let gap = sb.signed_distance(&(dcm_b_a * s.point_in_body + r_ab)).0 - s.radius;
+                if gap < cap {
+                    near.push(NearSample { index: k as u32, gap, reach: s.point_in_body.norm() });
+                }
             }
         }
-        gap
+        near
     }
 
     /// Fills `ws.pairs` with the candidate pairs at `frames`, boxes grown by `grow`.
@@ -507,6 +533,9 @@ impl ContactSet {
         Some((sa.samples.get(key.sample as usize)?, sb))
     }
 }
+
+/// A margin for the rounding of two distances in the proximity list's bounds, m.
+const SLACK: f64 = 1e-9;
 
 /// Whether `points` lie on one line, to 1 µm plus 1e-9 of their spread plus `width` (m).
 fn collinear(points: &[Vec3], width: f64) -> bool {

@@ -15,7 +15,7 @@ use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as PVec;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
-use proximity::{NearSample, Proximity};
+use proximity::NearSample;
 use solid::{Sample, Solid};
 use std::collections::{HashMap, HashSet};
 
@@ -247,50 +247,6 @@ impl ContactSet {
         for &(a, b) in ws.pairs.iter() {
             self.probe(a, b, frames, memory, out);
             self.probe(b, a, frames, memory, out);
-        }
-    }
-
-    /// As [`Self::evaluate`], probing only the pairs `near` says may touch (the same points,
-    /// found faster; every pair when the bodies have moved beyond its reach).
-    pub fn evaluate_near(
-        &self,
-        frames: &[Frame],
-        memory: &ContactMemory,
-        near: &Proximity,
-        ws: &mut Workspace,
-        out: &mut Vec<ContactPoint>,
-    ) {
-        if !near.motion(frames, &mut ws.motion) {
-            return self.evaluate(frames, memory, ws, out);
-        }
-        for pair in &near.pairs {
-            // The two bodies' motions relative to the first body bound their relative one.
-            if ws.motion[pair.a] + ws.motion[pair.b] + SLACK < pair.gap {
-                continue;
-            }
-            for (body, other, side) in [(pair.a, pair.b, &pair.a_in_b), (pair.b, pair.a, &pair.b_in_a)] {
-                if side.samples.is_empty() {
-                    continue;
-                }
-                let (fa, fb) = (&frames[body], &frames[other]);
-                // As in `probe`: a sample's centre in `other`'s frame is dcm_b_a p + r_ab.
-                let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
-                let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
-                let (shift, chord) = pair.motion(body == pair.a, &dcm_b_a, &r_ab);
-                // A sample has moved by at most |Δr| + chord |p| in `other`'s frame; the
-                // samples come least gap first, so the first beyond every reach ends them.
-                let most = shift + chord * side.reach + SLACK;
-                ws.near.clear();
-                for s in side.samples.iter().take_while(|s| s.gap < most) {
-                    if s.gap < shift + chord * s.reach + SLACK {
-                        ws.near.push(s.index);
-                    }
-                }
-                ws.near.sort_unstable();
-                for &k in &ws.near {
-                    self.probe_sample(body, other, k as usize, (fa, fb), (&dcm_b_a, &r_ab), None, memory, out);
-                }
-            }
         }
     }
 
@@ -533,9 +489,6 @@ impl ContactSet {
         Some((sa.samples.get(key.sample as usize)?, sb))
     }
 }
-
-/// A margin for the rounding of two distances in the proximity list's bounds, m.
-const SLACK: f64 = 1e-9;
 
 /// Whether `points` lie on one line, to 1 µm plus 1e-9 of their spread plus `width` (m).
 fn collinear(points: &[Vec3], width: f64) -> bool {

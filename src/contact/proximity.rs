@@ -22,8 +22,59 @@
 //! state, every pair is probed. Skipping never changes a result: only samples not in contact
 //! are skipped, and the rest are probed in the full search's order.
 
-use super::{ContactSet, Frame};
+use super::{ContactMemory, ContactPoint, ContactSet, Frame, Workspace};
 use crate::math::{Mat3, Vec3};
+
+/// A margin for the rounding of two distances in the list's bounds, m.
+const SLACK: f64 = 1e-9;
+
+impl ContactSet {
+    /// As [`ContactSet::evaluate`], probing only the samples `near` says may touch (the same
+    /// points in the same order, found faster; every pair when the bodies have moved beyond
+    /// the list's reach).
+    pub fn evaluate_near(
+        &self,
+        frames: &[Frame],
+        memory: &ContactMemory,
+        near: &Proximity,
+        ws: &mut Workspace,
+        out: &mut Vec<ContactPoint>,
+    ) {
+        if !near.motion(frames, &mut ws.motion) {
+            return self.evaluate(frames, memory, ws, out);
+        }
+        for pair in &near.pairs {
+            // The two bodies' motions relative to the first body bound their relative one.
+            if ws.motion[pair.a] + ws.motion[pair.b] + SLACK < pair.gap {
+                continue;
+            }
+            for (body, other, side) in [(pair.a, pair.b, &pair.a_in_b), (pair.b, pair.a, &pair.b_in_a)] {
+                if side.samples.is_empty() {
+                    continue;
+                }
+                let (fa, fb) = (&frames[body], &frames[other]);
+                // As in `probe`: a sample's centre in `other`'s frame is dcm_b_a p + r_ab.
+                let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
+                let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
+                let (shift, chord) = pair.motion(body == pair.a, &dcm_b_a, &r_ab);
+                // A sample has moved by at most |Δr| + chord |p| in `other`'s frame; the
+                // samples come least gap first, so the first beyond every reach ends them.
+                let most = shift + chord * side.reach + SLACK;
+                ws.near.clear();
+                for s in side.samples.iter().take_while(|s| s.gap < most) {
+                    if s.gap < shift + chord * s.reach + SLACK {
+                        ws.near.push(s.index);
+                    }
+                }
+                // In index order, as the full search finds them.
+                ws.near.sort_unstable();
+                for &k in &ws.near {
+                    self.probe_sample(body, other, k as usize, (fa, fb), (&dcm_b_a, &r_ab), None, memory, out);
+                }
+            }
+        }
+    }
+}
 
 /// A sample in the list.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -55,8 +55,8 @@ fn starshade(contact: &str) -> Scenario {
             c_rotation: 1.0,
         },
         duration: 10.0,
-        integrator: "sdirk4".into(),
-        tolerance: 1e-4,
+        integrator: Some("sdirk4".into()),
+        tolerance: Some(1e-4),
         ..FlasherOptions::default()
     };
     let (text, _) = options.scenario(&|k: &str| k.to_string()).unwrap_or_else(|e| panic!("{e}"));

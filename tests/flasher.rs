@@ -244,8 +244,8 @@ fn sdirk4_runs_the_release_restraint_and_agrees_with_dop853() {
             release_at: Some(0.2),
             duration: 3.0,
             output_step: Some(0.01),
-            tolerance: 1e-9,
-            integrator: integrator.into(),
+            tolerance: Some(1e-9),
+            integrator: Some(integrator.into()),
             laws: FlasherLaws {
                 k_fold: 0.05,
                 c_fold: 0.5,

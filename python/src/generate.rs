@@ -143,7 +143,10 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
             "c_rotation" => &mut o.laws.c_rotation,
             "spin_rpm" => &mut o.spin_rpm,
             "duration" => &mut o.duration,
-            "tolerance" => &mut o.tolerance,
+            "tolerance" => {
+                o.tolerance = Some(v.extract()?);
+                return Ok(true);
+            }
             "hub_inertia" => {
                 o.hub_inertia = v.extract()?;
                 return Ok(true);
@@ -157,7 +160,7 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
                 return Ok(true);
             }
             "integrator" => {
-                o.integrator = v.extract()?;
+                o.integrator = Some(v.extract()?);
                 return Ok(true);
             }
             "output_step" => {

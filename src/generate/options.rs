@@ -210,13 +210,24 @@ pub struct FlasherOptions {
     pub duration: f64,
     /// Output step, s (`None`: duration / 1000).
     pub output_step: Option<f64>,
-    /// Integrator tolerance (rtol = atol).
-    pub tolerance: f64,
-    /// `dop853` or `sdirk4`.
-    pub integrator: String,
+    /// Integrator tolerance (rtol = atol); `None`: [`THIN_RUN`]'s for thin panels, [`THICK_RUN`]'s
+    /// for thick ones.
+    pub tolerance: Option<f64>,
+    /// `dop853`, `sdirk4` or `auto`; `None` as the tolerance.
+    pub integrator: Option<String>,
     /// Hold the stowed state until this time, s.
     pub release_at: Option<f64>,
 }
+
+/// A thin flasher's integrator and tolerance unless given: DOP853 at 1e-8, as every generated
+/// structure (the hinges' stiff vibrations resolved, the energy kept to ~1e-9).
+pub const THIN_RUN: (&str, f64) = ("dop853", 1e-8);
+
+/// A thick flasher's (its panels in contact) unless given: SDIRK4 at 1e-4. Contact stiffens
+/// the stowed package beyond what explicit steps can take (the 6 × 3, 1 cm flasher under
+/// DOP853 at 1e-8 was projected at 8 h); at 1e-4 it ran its 5 s in about 2 min (2-core
+/// machine, load ~1.3; docs/flasher.md has the figures at each tolerance).
+pub const THICK_RUN: (&str, f64) = ("sdirk4", 1e-4);
 
 impl Default for FlasherOptions {
     fn default() -> Self {
@@ -234,8 +245,8 @@ impl Default for FlasherOptions {
             spin_rpm: 0.0,
             duration: 5.0,
             output_step: None,
-            tolerance: 1e-8,
-            integrator: "dop853".into(),
+            tolerance: None,
+            integrator: None,
             release_at: None,
         }
     }
@@ -262,10 +273,12 @@ impl FlasherOptions {
                 ("c_rotation", l.c_rotation, dl.c_rotation),
                 ("spin_rpm", self.spin_rpm, d.spin_rpm),
                 ("duration", self.duration, d.duration),
-                ("tolerance", self.tolerance, d.tolerance),
             ],
             name,
         );
+        if let Some(t) = self.tolerance {
+            out.push((name("tolerance"), t));
+        }
         if let Some(v) = self.hub_inertia {
             out.extend(v.iter().enumerate().map(|(i, x)| (format!("{} component {}", name("hub_inertia"), i + 1), *x)));
         }
@@ -373,20 +386,16 @@ impl FlasherOptions {
             None => [self.hub_mass * r * r / 4.0, self.hub_mass * r * r / 4.0, self.hub_mass * r * r / 2.0],
         };
         let output_step = self.output_step.unwrap_or(self.duration / 1000.0);
-        run_checked(self.duration, output_step, self.tolerance, self.release_at, name)?;
-        let integrator = match self.integrator.as_str() {
+        let (default_integrator, default_tolerance) = if self.thickness > 0.0 { THICK_RUN } else { THIN_RUN };
+        let tolerance = self.tolerance.unwrap_or(default_tolerance);
+        run_checked(self.duration, output_step, tolerance, self.release_at, name)?;
+        let integrator = match self.integrator.as_deref().unwrap_or(default_integrator) {
             "dop853" => "dop853",
             "sdirk4" => "sdirk4",
             "auto" => "auto",
             other => return Err(format!("{} must be auto, dop853 or sdirk4; got '{other}'", name("integrator"))),
         };
-        let run = RunText {
-            duration: self.duration,
-            output_step,
-            tolerance: self.tolerance,
-            integrator,
-            release_at: self.release_at,
-        };
+        let run = RunText { duration: self.duration, output_step, tolerance, integrator, release_at: self.release_at };
         let shape = FlasherShape { gores: self.gores, rings: self.rings, hub_radius: r, model: self.panels };
         let params = SheetParams {
             title: format!("flasher, {} gores, {} rings, {}", self.gores, self.rings, self.panels.name()),
@@ -419,5 +428,29 @@ pub fn panel_model(name: &str) -> Result<PanelModel, String> {
         "quads" => Ok(PanelModel::Quads),
         "ring-quads" => Ok(PanelModel::RingQuads),
         other => Err(format!("panel model '{other}': give triangles, quads or ring-quads")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `[run]` lines a flasher's scenario gets.
+    fn run_lines(o: &FlasherOptions) -> (String, String) {
+        let (text, _) = o.scenario(&|k: &str| k.to_string()).unwrap();
+        let line = |key: &str| text.lines().find(|l| l.starts_with(key)).unwrap().to_string();
+        (line("integrator = "), line("rtol = "))
+    }
+
+    /// Thin flashers keep DOP853 at 1e-8; thick ones (in contact) get SDIRK4 at 1e-4; what is
+    /// given is kept either way.
+    #[test]
+    fn thick_flashers_default_to_the_implicit_run() {
+        let thin = FlasherOptions { gores: 4, rings: 1, ..FlasherOptions::default() };
+        assert_eq!(run_lines(&thin), ("integrator = \"dop853\"".into(), "rtol = 1e-8".into()));
+        let thick = FlasherOptions { thickness: 0.01, ..thin.clone() };
+        assert_eq!(run_lines(&thick), ("integrator = \"sdirk4\"".into(), "rtol = 1e-4".into()));
+        let given = FlasherOptions { integrator: Some("auto".into()), tolerance: Some(1e-6), ..thick };
+        assert_eq!(run_lines(&given), ("integrator = \"auto\"".into(), "rtol = 1e-6".into()));
     }
 }

@@ -225,9 +225,10 @@ pub enum Command {
         /// Simulated time, s (default: 10 for a z-fold or grid, 5 for a flasher).
         #[arg(long, global = true)]
         duration: Option<f64>,
-        /// Integrator tolerance (rtol = atol).
-        #[arg(long, default_value_t = Params::default().tolerance, global = true)]
-        tolerance: f64,
+        /// Integrator tolerance (rtol = atol). Default 1e-8; a flasher with --thickness (in
+        /// contact) 1e-4.
+        #[arg(long, global = true)]
+        tolerance: Option<f64>,
         /// Scenario file to write.
         #[arg(long, short, global = true)]
         output: Option<PathBuf>,
@@ -338,9 +339,10 @@ pub struct FlasherArgs {
     #[arg(long)]
     pub output_step: Option<f64>,
     /// Integrator: dop853, sdirk4 (stiff hinges on many panels) or auto (DOP853, switching
-    /// to SDIRK4 where stiffness holds it back).
-    #[arg(long, default_value = "dop853", value_parser = ["dop853", "sdirk4", "auto"])]
-    pub integrator: String,
+    /// to SDIRK4 where stiffness holds it back). Default dop853; with --thickness (panels in
+    /// contact) sdirk4.
+    #[arg(long, value_parser = ["dop853", "sdirk4", "auto"])]
+    pub integrator: Option<String>,
     /// Print every hinge's stowed fold angle, not only the distinct ones.
     #[arg(long)]
     pub all_folds: bool,

@@ -58,7 +58,7 @@ pub(crate) fn generate_flasher(
     k_translation: f64,
     k_rotation: f64,
     k_fold: f64,
-    (duration, tolerance): (f64, f64),
+    (duration, tolerance): (f64, Option<f64>),
     output: Option<PathBuf>,
 ) -> Result<(), String> {
     use foldsim::generate::flasher::FlasherLaws;

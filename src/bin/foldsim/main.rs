@@ -99,7 +99,7 @@ fn main() -> ExitCode {
                     k_fold,
                     fold_deg: fold_deg.unwrap_or(defaults.fold_deg),
                     duration: duration.unwrap_or(defaults.duration),
-                    tolerance,
+                    tolerance: tolerance.unwrap_or(defaults.tolerance),
                     ..defaults
                 };
                 generate::generate(shape, &p, output)

@@ -165,8 +165,6 @@ pub struct Workspace {
     bvh: BvhWorkspace,
     /// Per body, its motion since the proximity list's reference.
     motion: Vec<f64>,
-    /// The samples of one body to probe against another.
-    near: Vec<u32>,
 }
 
 impl std::fmt::Debug for Workspace {

@@ -57,19 +57,15 @@ impl ContactSet {
                 let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
                 let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
                 let (shift, chord) = pair.motion(body == pair.a, &dcm_b_a, &r_ab);
-                // A sample has moved by at most |Δr| + chord |p| in `other`'s frame; the
-                // samples come least gap first, so the first beyond every reach ends them.
-                let most = shift + chord * side.reach + SLACK;
-                ws.near.clear();
-                for s in side.samples.iter().take_while(|s| s.gap < most) {
-                    if s.gap < shift + chord * s.reach + SLACK {
-                        ws.near.push(s.index);
-                    }
+                // A sample has moved by at most |Δr| + chord |p| in `other`'s frame.
+                if side.gap >= shift + chord * side.reach + SLACK {
+                    continue;
                 }
-                // In index order, as the full search finds them.
-                ws.near.sort_unstable();
-                for &k in &ws.near {
-                    self.probe_sample(body, other, k as usize, (fa, fb), (&dcm_b_a, &r_ab), None, memory, out);
+                for s in &side.samples {
+                    if s.gap < shift + chord * s.reach + SLACK {
+                        let k = s.index as usize;
+                        self.probe_sample(body, other, k, (fa, fb), (&dcm_b_a, &r_ab), None, memory, out);
+                    }
                 }
             }
         }
@@ -90,22 +86,19 @@ pub struct NearSample {
 /// One body's samples that may enter the other's solid.
 #[derive(Clone, Debug, Default)]
 pub struct NearSide {
-    /// The samples, least gap first.
+    /// The samples, in index order (the order the full search probes them in).
     pub samples: Vec<NearSample>,
+    /// The least of their gaps, m (∞ for none).
+    pub gap: f64,
     /// The largest of their reaches, m.
     pub reach: f64,
 }
 
 impl NearSide {
-    fn new(mut samples: Vec<NearSample>) -> Self {
-        samples.sort_by(|p, q| p.gap.total_cmp(&q.gap));
+    fn new(samples: Vec<NearSample>) -> Self {
+        let gap = samples.iter().map(|s| s.gap).fold(f64::INFINITY, f64::min);
         let reach = samples.iter().map(|s| s.reach).fold(0.0, f64::max);
-        Self { samples, reach }
-    }
-
-    /// The least gap, m (∞ for none).
-    fn gap(&self) -> f64 {
-        self.samples.first().map_or(f64::INFINITY, |s| s.gap)
+        Self { samples, gap, reach }
     }
 }
 
@@ -196,7 +189,7 @@ impl Proximity {
             pairs.push(NearPair {
                 a,
                 b,
-                gap: a_in_b.gap().min(b_in_a.gap()),
+                gap: a_in_b.gap.min(b_in_a.gap),
                 dcm_b_a: fb.dcm_n_b.transpose() * fa.dcm_n_b,
                 r_ab_in_b: fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n),
                 r_ba_in_a: fa.dcm_n_b.transpose() * (fb.position_in_n - fa.position_in_n),

@@ -367,7 +367,8 @@ impl ContactSet {
                 return;
             }
             let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-            let Some(f) = self.point_force_at(s, sb, fa, fb, &p, memory.get(&key).copied()) else { return };
+            // The memory is looked up only for a sample that penetrates (most probed do not).
+            let Some(f) = self.point_force_at(s, sb, fa, fb, &p, || memory.get(&key).copied()) else { return };
             out.push(ContactPoint {
                 key,
                 point_in_n: f.point_in_n,
@@ -395,7 +396,7 @@ impl ContactSet {
     ) -> Option<PointForce<f64>> {
         let point_in_b =
             fb.dcm_n_b.transpose() * (fa.position_in_n + fa.dcm_n_b * sample.point_in_body - fb.position_in_n);
-        self.point_force_at(sample, solid, fa, fb, &point_in_b, impact_speed)
+        self.point_force_at(sample, solid, fa, fb, &point_in_b, || impact_speed)
     }
 
     /// [`ContactSet::point_force`] with the sample's centre in `fb`'s body frame given (m).
@@ -406,13 +407,14 @@ impl ContactSet {
         fa: &Frame,
         fb: &Frame,
         point_in_b: &Vec3,
-        impact_speed: Option<f64>,
+        impact_speed: impl FnOnce() -> Option<f64>,
     ) -> Option<PointForce<f64>> {
         let (d, normal_in_b) = solid.signed_distance(point_in_b);
         let depth = sample.radius - d;
         if depth <= 0.0 {
             return None;
         }
+        let impact_speed = impact_speed();
         let point = fb.position_in_n + fb.dcm_n_b * point_in_b;
         let velocity_in_b = fb.dcm_n_b.transpose() * (fa.velocity_at(&point) - fb.velocity_at(&point));
         let f = self.law_at(depth, normal_in_b, &velocity_in_b, impact_speed);

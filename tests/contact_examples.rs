@@ -392,3 +392,35 @@ fn thick_flasher_stowed_start_under_dop853() {
     );
     assert!(of_thickness < 0.1, "{depth} m into a body");
 }
+
+/// The 6 × 3 flasher with 1-cm panels and every other option at its default, its whole 5 s
+/// (about 2 min of wall time, so not in the suite: `cargo test --release --test
+/// contact_examples -- --ignored`): it deploys to 90 %, P and H hold to round-off, and no two
+/// panels enter one another deeper than 10 % of the thickness, measured as the other tests
+/// here do (rounded rims as declared; sharp prisms reported beside). Today the last fails:
+/// 9.9 mm between p58 and p63 at 1.665 s, hinged neighbours ringing past flat, where only
+/// their crease samples (excluded against each other) could have seen it; the contact
+/// code's deepest is 0.37 mm.
+#[test]
+#[ignore = "a 2-minute run; it fails today: hinged neighbours fold through each other at their crease (docs/contact.md, Limits)"]
+fn thick_6x3_flasher_at_its_defaults() {
+    use foldsim::generate::options::FlasherOptions;
+    let o = FlasherOptions { gores: 6, rings: 3, thickness: 0.01, ..FlasherOptions::default() };
+    let (text, _) = o.scenario(&|k: &str| k.to_string()).unwrap();
+    let s = foldsim::scenario::Scenario::from_toml(&text, "t63").unwrap();
+    let (_, rows, report) = run(&s);
+    let (depth, t, a, b, of_thickness) = deepest_rounded(&s, &rows);
+    let (sharp, ..) = deepest(&s, &rows);
+    let reached = rows.iter().find(|o| o.deployed_fraction >= 0.9).expect("reaches 90 %").t;
+    let d = &report.drift;
+    let (p, h) = (d.momentum / d.momentum_scale, d.angular_momentum / d.angular_momentum_scale);
+    println!(
+        "6 x 3, 1 cm, defaults: 90 % at {reached:.3} s; deepest with rounded rims {depth:.3e} m at t = {t:.4} s, {} and {} ({:.2} % of the thickness); sharp prisms {sharp:.3e} m; contact code {:.3e} m; P {p:.1e}, H {h:.1e} relative",
+        s.model.bodies[a].name,
+        s.model.bodies[b].name,
+        100.0 * of_thickness,
+        report.contact.unwrap().deepest.0,
+    );
+    assert!(of_thickness < 0.1, "{depth} m into a body");
+    assert!(p < 1e-10 && h < 1e-10, "P {p:e}, H {h:e}");
+}

@@ -398,11 +398,11 @@ fn thick_flasher_stowed_start_under_dop853() {
 /// contact_examples -- --ignored`): it deploys to 90 %, P and H hold to round-off, and no two
 /// panels enter one another deeper than 10 % of the thickness, measured as the other tests
 /// here do (rounded rims as declared; sharp prisms reported beside). Today the last fails:
-/// 9.9 mm between p58 and p63 at 1.665 s, hinged neighbours ringing past flat, where only
-/// their crease samples (excluded against each other) could have seen it; the contact
-/// code's deepest is 0.37 mm.
+/// 9.9 mm between p58 and p63, neighbours joined by a loop hinge, at 1.665 s as the sheet
+/// rings past flat, while the contact code's deepest is 0.37 mm (docs/contact.md, Limits,
+/// has what was tried).
 #[test]
-#[ignore = "a 2-minute run; it fails today: hinged neighbours fold through each other at their crease (docs/contact.md, Limits)"]
+#[ignore = "a 2-minute run; it fails today: two hinged neighbours overlap near their crease (docs/contact.md, Limits)"]
 fn thick_6x3_flasher_at_its_defaults() {
     use foldsim::generate::options::FlasherOptions;
     let o = FlasherOptions { gores: 6, rings: 3, thickness: 0.01, ..FlasherOptions::default() };

@@ -44,6 +44,14 @@ impl Default for Frame {
     }
 }
 
+impl Frame {
+    /// Body A's (this frame's) attitude in body B's frame (`fb`; A → B) and A's origin there
+    /// (m): a point `p` of A is at `dcm_b_a p + r_ab` in B.
+    pub fn in_frame_of(&self, fb: &Frame) -> (Mat3, Vec3) {
+        (fb.dcm_n_b.transpose() * self.dcm_n_b, fb.dcm_n_b.transpose() * (self.position_in_n - fb.position_in_n))
+    }
+}
+
 impl<T: Real> Frame<T> {
     /// Velocity of the body's material point at `p_in_n` (m, N), m/s, N frame.
     fn velocity_at(&self, p_in_n: &Vector3<T>) -> Vector3<T> {
@@ -264,8 +272,7 @@ impl ContactSet {
         let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return Vec::new() };
         let (fa, fb) = (&frames[body], &frames[other]);
         let crease = self.crease.get(&(body, other));
-        let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
-        let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
+        let (dcm_b_a, r_ab) = fa.in_frame_of(fb);
         let mut near = Vec::new();
         for (run, centre, radius) in &sa.groups {
             if sb.signed_distance(&(dcm_b_a * centre + r_ab)).0 - radius >= cap {
@@ -321,9 +328,7 @@ impl ContactSet {
         let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return };
         let (fa, fb) = (&frames[body], &frames[other]);
         let crease = self.crease.get(&(body, other));
-        // A sample's centre in `other`'s frame: dcm_b_a p + r_ab.
-        let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
-        let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
+        let (dcm_b_a, r_ab) = fa.in_frame_of(fb);
         // A group whose sphere is outside `other`'s solid (its distance above the sphere's
         // radius) holds no sample in contact: the distance is 1-Lipschitz.
         let open = |centre: &Vec3, radius: f64| {

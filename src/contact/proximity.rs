@@ -53,10 +53,8 @@ impl ContactSet {
                     continue;
                 }
                 let (fa, fb) = (&frames[body], &frames[other]);
-                // As in `probe`: a sample's centre in `other`'s frame is dcm_b_a p + r_ab.
-                let dcm_b_a = fb.dcm_n_b.transpose() * fa.dcm_n_b;
-                let r_ab = fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n);
-                let (shift, chord) = pair.motion(body == pair.a, &dcm_b_a, &r_ab);
+                let (dcm_b_a, r_ab) = fa.in_frame_of(fb);
+                let (shift, chord) = side.motion(&dcm_b_a, &r_ab);
                 // A sample has moved by at most |Δr| + chord |p| in `other`'s frame.
                 if side.gap >= shift + chord * side.reach + SLACK {
                     continue;
@@ -84,7 +82,7 @@ pub struct NearSample {
 }
 
 /// One body's samples that may enter the other's solid.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct NearSide {
     /// The samples, in index order (the order the full search probes them in).
     pub samples: Vec<NearSample>,
@@ -92,13 +90,24 @@ pub struct NearSide {
     pub gap: f64,
     /// The largest of their reaches, m.
     pub reach: f64,
+    /// At the reference: the body's attitude in the other's frame and its origin there (m).
+    reference: (Mat3, Vec3),
 }
 
 impl NearSide {
-    fn new(samples: Vec<NearSample>) -> Self {
+    /// `samples` of the body at `fa` against the body at `fb`.
+    fn new(samples: Vec<NearSample>, fa: &Frame, fb: &Frame) -> Self {
         let gap = samples.iter().map(|s| s.gap).fold(f64::INFINITY, f64::min);
         let reach = samples.iter().map(|s| s.reach).fold(0.0, f64::max);
-        Self { samples, gap, reach }
+        Self { samples, gap, reach, reference: fa.in_frame_of(fb) }
+    }
+
+    /// How far the body has moved in the other's frame since the reference, given its
+    /// attitude `dcm_other_body` and origin `r_in_other` (m) there now: the origin's
+    /// displacement (m) and the chord `2 sin(θ/2)` of the relative rotation (a sample at
+    /// distance `p` from the origin moves at most `shift + chord p`).
+    pub fn motion(&self, dcm_other_body: &Mat3, r_in_other: &Vec3) -> (f64, f64) {
+        ((r_in_other - self.reference.1).norm(), chord(&self.reference.0, dcm_other_body))
     }
 }
 
@@ -111,32 +120,10 @@ pub struct NearPair {
     pub b: usize,
     /// The least gap of any sample of either, m.
     pub gap: f64,
-    /// At the reference: `a`'s attitude in `b`'s frame (a → b) and `a`'s origin there (m),
-    /// and `b`'s origin in `a`'s frame (m).
-    dcm_b_a: Mat3,
-    r_ab_in_b: Vec3,
-    r_ba_in_a: Vec3,
     /// `a`'s samples that may enter `b`.
     pub a_in_b: NearSide,
     /// `b`'s samples that may enter `a`.
     pub b_in_a: NearSide,
-}
-
-impl NearPair {
-    /// How far the sample's body (`a` if `from_a`, else `b`) has moved in the other's frame
-    /// since the reference, given its attitude `dcm_other_body` and origin `r_in_other` (m)
-    /// there now: the origin's displacement (m) and the chord `2 sin(θ/2)` of the relative
-    /// rotation (a sample at distance `p` from the origin moves at most `shift + chord p`).
-    pub fn motion(&self, from_a: bool, dcm_other_body: &Mat3, r_in_other: &Vec3) -> (f64, f64) {
-        // The reference attitude is dcm_b_a for a in b, its transpose for b in a.
-        let chord = if from_a {
-            chord(&self.dcm_b_a, dcm_other_body)
-        } else {
-            chord(&self.dcm_b_a.transpose(), dcm_other_body)
-        };
-        let shift = if from_a { r_in_other - self.r_ab_in_b } else { r_in_other - self.r_ba_in_a };
-        (shift.norm(), chord)
-    }
 }
 
 /// The chord `2 sin(θ/2)` of the rotation `θ` that takes attitude `from` to `to` (the
@@ -180,22 +167,13 @@ impl Proximity {
         let (ref_position, ref_dcm) = relative(frames);
         let mut pairs = Vec::new();
         for (a, b) in set.candidate_pairs(frames, 0.5 * skin) {
-            let a_in_b = NearSide::new(set.near_samples(a, b, frames, skin));
-            let b_in_a = NearSide::new(set.near_samples(b, a, frames, skin));
+            let (fa, fb) = (&frames[a], &frames[b]);
+            let a_in_b = NearSide::new(set.near_samples(a, b, frames, skin), fa, fb);
+            let b_in_a = NearSide::new(set.near_samples(b, a, frames, skin), fb, fa);
             if a_in_b.samples.is_empty() && b_in_a.samples.is_empty() {
                 continue;
             }
-            let (fa, fb) = (&frames[a], &frames[b]);
-            pairs.push(NearPair {
-                a,
-                b,
-                gap: a_in_b.gap.min(b_in_a.gap),
-                dcm_b_a: fb.dcm_n_b.transpose() * fa.dcm_n_b,
-                r_ab_in_b: fb.dcm_n_b.transpose() * (fa.position_in_n - fb.position_in_n),
-                r_ba_in_a: fa.dcm_n_b.transpose() * (fb.position_in_n - fa.position_in_n),
-                a_in_b,
-                b_in_a,
-            });
+            pairs.push(NearPair { a, b, gap: a_in_b.gap.min(b_in_a.gap), a_in_b, b_in_a });
         }
         Self { ref_position, ref_dcm, reach, pairs, skin }
     }

@@ -39,6 +39,7 @@ fn laws(c: f64) -> FlasherLaws {
         c_translation: 10.0 * c,
         k_rotation: 1e3,
         c_rotation: 0.1 * c,
+        k_stop: 1e4,
     }
 }
 

@@ -237,6 +237,7 @@ const OPTION_KEYS: &[&str] = &[
     "c_panel_bending",
     "c_translation",
     "c_rotation",
+    "k_stop",
     "spin_rpm",
     "integrator",
     "release_at",
@@ -302,7 +303,10 @@ fn fuzzed_generator_options_give_loadable_scenarios_or_name_the_option() {
                     ..FlasherOptions::default()
                 };
                 o.hub_radius = pick(&mut rng, 1.0);
-                o.thickness = pick(&mut rng, 0.0);
+                // Thick a third of the time (the crease stops and contact are written then).
+                let thick = if rng.below(3) == 0 { 0.01 } else { 0.0 };
+                o.thickness = pick(&mut rng, thick);
+                o.laws.k_stop = pick(&mut rng, 1e4);
                 o.areal_density = pick(&mut rng, 1.0);
                 o.hub_mass = pick(&mut rng, 100.0);
                 o.spin_rpm = pick(&mut rng, 0.0);

@@ -103,7 +103,7 @@ pub fn grid(rows: usize, cols: usize, options: Option<&Bound<'_, PyDict>>) -> Py
 #[pyfunction]
 #[pyo3(signature = (gores, rings, **options))]
 pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) -> PyResult<(Scenario, String)> {
-    const KNOWN: [&str; 21] = [
+    const KNOWN: [&str; 22] = [
         "hub_radius",
         "thickness",
         "hinge_axes",
@@ -119,6 +119,7 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
         "c_translation",
         "k_bending",
         "c_rotation",
+        "k_stop",
         "spin_rpm",
         "duration",
         "output_step",
@@ -141,6 +142,7 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
             "c_translation" => &mut o.laws.c_translation,
             "k_bending" => &mut o.laws.k_rotation,
             "c_rotation" => &mut o.laws.c_rotation,
+            "k_stop" => &mut o.laws.k_stop,
             "spin_rpm" => &mut o.spin_rpm,
             "duration" => &mut o.duration,
             "tolerance" => {

@@ -457,6 +457,9 @@ pub struct FlasherLaws {
     pub k_rotation: f64,
     /// Their damping, N·m·s/rad.
     pub c_rotation: f64,
+    /// Thick panels (axes shifted): stiffness of each folding crease's stop at flat, where its
+    /// panels' edges meet, N·m/rad (0: none); damped for the contact's restitution.
+    pub k_stop: f64,
 }
 
 impl Default for FlasherLaws {
@@ -465,7 +468,11 @@ impl Default for FlasherLaws {
     /// diagonals soft (0.1 N·m/rad, 0.05 N·m·s/rad), since stiff diagonals hold the wrap
     /// folded (at 1e3 N·m/rad a 12-gore, 5-ring flasher stayed at 33 % of its radius); off-axis
     /// rotations at 1e3 N·m/rad (0.1 N·m·s/rad) and translations at 1e6 N/m (10 N·s/m), damped
-    /// so that their vibrations do not set the step size for the whole run.
+    /// so that their vibrations do not set the step size for the whole run. Thick panels'
+    /// creases stop at flat at 1e4 N·m/rad: a panel slapping flat at the deployment's fold
+    /// rates (≲ 1 rad/s, ≲ 0.1 kg·m² about its crease) passes it by ≲ 5e-3 rad; off-axis
+    /// stiffness as low as 1e3 N·m/rad is what lets the (not rigidly foldable) wrap open,
+    /// and without the stop it let a fold swing 17° past flat through its neighbour.
     fn default() -> Self {
         Self {
             k_fold: 1.0,
@@ -476,6 +483,7 @@ impl Default for FlasherLaws {
             c_translation: 10.0,
             k_rotation: 1e3,
             c_rotation: 0.1,
+            k_stop: 1e4,
         }
     }
 }
@@ -532,6 +540,7 @@ pub fn flasher_scenario(
             c_translation: laws.c_translation,
             c_rotation: laws.c_rotation,
             c_fold,
+            k_stop: laws.k_stop,
         }
     };
     let (mut text, sheet) = sheet_scenario(&f.sheet, law, p)?;
@@ -622,6 +631,21 @@ impl FlasherReport {
                         w.axis_shift.y / h,
                         g.deployed_diameter
                     );
+                    if let Some((_, first)) = s.stops.first() {
+                        let (lo, hi) = s.stops.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), (_, st)| {
+                            (lo.min(st.damping), hi.max(st.damping))
+                        });
+                        let _ = writeln!(
+                            out,
+                            "crease stops: {} of {} hinges fold one way only, their panels' edges meeting at flat: a stop there at {:e} N·m/rad, damping {:.3}–{:.3} N·m·s/rad (restitution {} for each crease's panels)",
+                            s.stops.len(),
+                            s.strains.len(),
+                            first.stiffness,
+                            lo,
+                            hi,
+                            super::crease::STOP_RESTITUTION
+                        );
+                    }
                 }
                 _ => {
                     // The layers' offsets, and so the hinges' stowed deflections, grow in

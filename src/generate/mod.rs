@@ -6,6 +6,8 @@
 //!   states and its panels (the flasher's builder).
 //! - [`flasher::flasher_scenario`]: a flasher (a disc wrapped round a polygonal hub) from its
 //!   gores and rings, through the sheet builder.
+//! - [`crease`]: a crease's hinge law as the sheet builder writes it (a thick crease's stop at
+//!   flat).
 //! - [`options`]: the generators' options, defaults and checks, shared by the command line
 //!   and the Python package.
 //! - [`grid()`]: an R × C grid of panels, each hinged to its neighbours along both grid
@@ -14,6 +16,7 @@
 //! Every hinge uses law 2 (Euler potential) about its fold axis (A's z axis): stiff in the
 //! five other directions, soft in the fold, as real hinges are.
 
+pub mod crease;
 pub mod flasher;
 pub mod grid;
 pub mod options;

@@ -271,6 +271,7 @@ impl FlasherOptions {
                 ("c_translation", l.c_translation, dl.c_translation),
                 ("k_bending", l.k_rotation, dl.k_rotation),
                 ("c_rotation", l.c_rotation, dl.c_rotation),
+                ("k_stop", l.k_stop, dl.k_stop),
                 ("spin_rpm", self.spin_rpm, d.spin_rpm),
                 ("duration", self.duration, d.duration),
             ],
@@ -330,6 +331,7 @@ impl FlasherOptions {
             (l.c_bending, "c_panel_bending", "N·m·s/rad"),
             (l.c_translation, "c_translation", "N·s/m"),
             (l.c_rotation, "c_rotation", "N·m·s/rad"),
+            (l.k_stop, "k_stop", "N·m/rad"),
             (l.k_translation, "k_translation", "N/m"),
             (l.k_rotation, "k_bending", "N·m/rad"),
             (l.k_fold, "k_fold", "N·m/rad"),
@@ -452,5 +454,34 @@ mod tests {
         assert_eq!(run_lines(&thick), ("integrator = \"sdirk4\"".into(), "rtol = 1e-4".into()));
         let given = FlasherOptions { integrator: Some("auto".into()), tolerance: Some(1e-6), ..thick };
         assert_eq!(run_lines(&given), ("integrator = \"auto\"".into(), "rtol = 1e-6".into()));
+    }
+
+    /// A thick flasher with shifted axes stops every folding crease at flat, free on its
+    /// stowed fold's side, and the scenario loads; thin panels, axes in the mid-plane or
+    /// `k_stop = 0` write no stop (and law 2 as before).
+    #[test]
+    fn thick_creases_stop_at_flat_on_the_far_side_of_their_fold() {
+        use crate::generate::crease::LEAST_STOPPED_FOLD;
+        let thick = FlasherOptions { gores: 4, rings: 2, thickness: 0.01, ..FlasherOptions::default() };
+        let (text, report) = thick.scenario(&|k: &str| k.to_string()).unwrap();
+        let folding: Vec<_> = report.sheet.strains.iter().filter(|s| s.fold.abs() > LEAST_STOPPED_FOLD).collect();
+        assert!(!folding.is_empty() && folding.len() < report.sheet.strains.len(), "the diagonals stay flat");
+        assert_eq!(report.sheet.stops.len(), folding.len());
+        for (f, (name, stop)) in folding.iter().zip(&report.sheet.stops) {
+            assert_eq!(&f.hinge, name);
+            assert_eq!(stop.free_above, f.fold > 0.0, "{name}");
+            assert!(stop.damping > 0.0 && stop.stiffness == thick.laws.k_stop, "{name}: {stop:?}");
+        }
+        assert_eq!(text.matches("stop = { at_deg = 0.0").count(), folding.len());
+        crate::scenario::Scenario::from_toml(&text, "thick").unwrap();
+        let none = [
+            FlasherOptions { thickness: 0.0, ..thick.clone() },
+            FlasherOptions { hinge_axes: HingeAxes::MidPlane, ..thick.clone() },
+            FlasherOptions { laws: FlasherLaws { k_stop: 0.0, ..thick.laws }, ..thick.clone() },
+        ];
+        for o in none {
+            let (text, report) = o.scenario(&|k: &str| k.to_string()).unwrap();
+            assert!(report.sheet.stops.is_empty() && !text.contains("directional"), "{o:?}");
+        }
     }
 }

@@ -87,22 +87,8 @@ impl HingeStrain {
     }
 }
 
-/// The response of one kind of crease: an `euler-potential` law, the fold about A's z axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CreaseLaw {
-    /// Stiffness of the three translations, N/m.
-    pub k_translation: f64,
-    /// Stiffness of the two rotations that are not the fold, N·m/rad.
-    pub k_rotation: f64,
-    /// Fold stiffness, N·m/rad (rest at the deployed design).
-    pub k_fold: f64,
-    /// Fold damping, N·m·s/rad.
-    pub c_fold: f64,
-    /// Damping of the translations, N·s/m.
-    pub c_translation: f64,
-    /// Damping of the two rotations that are not the fold, N·m·s/rad.
-    pub c_rotation: f64,
-}
+pub use super::crease::CreaseLaw;
+use super::crease::{FoldStop, LEAST_STOPPED_FOLD, inertia_about_line};
 
 /// What a sheet is made of and how its scenario runs.
 #[derive(Clone, Debug, PartialEq)]
@@ -185,6 +171,8 @@ pub struct SheetReport {
     pub panel_strain: f64,
     /// Per hinge, its stowed fold and strain.
     pub strains: Vec<HingeStrain>,
+    /// Per hinge given a stop at flat (thick panels, shifted axes): its name and the stop.
+    pub stops: Vec<(String, FoldStop)>,
 }
 
 /// A panel's body frame in one state: `(centroid, [N body])`.
@@ -299,6 +287,7 @@ pub fn sheet_scenario(
     let mut deployed_pose: Vec<Pose> = Vec::new();
     let mut stowed_pose: Vec<Pose> = Vec::new();
     let mut local: Vec<Vec<Vec3>> = Vec::new();
+    let mut masses = Vec::new();
     let mut report = SheetReport::default();
     let cuts = if p.thickness > 0.0 { tip_cuts(&sheet.panels, dep, 0.5 * p.thickness) } else { BTreeMap::new() };
     for (k, nodes) in sheet.panels.iter().enumerate() {
@@ -312,6 +301,9 @@ pub fn sheet_scenario(
         let shape = Shape::Plate { vertices: outline.clone(), thickness: p.thickness };
         shape.check().map_err(|m| format!("panel {k}: {m}"))?;
         let centroid = shape.mass_properties(1.0).centroid;
+        // A panel's mass properties (about its centroid, so in any frame there translated);
+        // the hub's are not needed (it is taken as not turning at a stop).
+        masses.push(shape.mass_properties(p.areal_density));
         let normal = (0..world.len())
             .map(|i| (world[i] - world[0]).cross(&(world[(i + 1) % world.len()] - world[0])))
             .sum::<Vec3>()
@@ -466,26 +458,6 @@ pub fn sheet_scenario(
         } else {
             "\"assembled\"".to_string()
         };
-        let _ = writeln!(
-            out,
-            "[[hinge]]\nname = \"{hname}\"\nparent = \"{}\"\nchild = \"{}\"\na0 = {a0}\na = {{ child_com = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}\nlaw = {{ type = \"euler-potential\", k_f = {:e}, k_theta = [{:e}, {:e}, {:e}], c_f = {:e}, c_theta = [{:e}, {:e}, {:e}] }}\n",
-            name(parent),
-            name(child),
-            child_com.x,
-            child_com.y,
-            child_com.z,
-            theta_c_a.yaw,
-            theta_c_a.pitch,
-            theta_c_a.roll,
-            l.k_translation,
-            l.k_rotation,
-            l.k_rotation,
-            l.k_fold,
-            l.c_translation,
-            l.c_rotation,
-            l.c_rotation,
-            l.c_fold
-        );
         let mut theta = Euler321::from_dcm(&(a_n.transpose() * a0_n));
         let delta = delta_at(origin);
         if let Some(&sense) = sheet.senses.get(&(a, b)) {
@@ -501,6 +473,35 @@ pub fn sheet_scenario(
                 ));
             }
         }
+        // A thick crease whose axis is shifted off its mid-plane folds one way only: its
+        // panels' edges meet at flat (docs/flasher.md, Thick panels), a stop there.
+        let stop = (p.thickness > 0.0
+            && p.hinge_axes == HingeAxes::Shifted
+            && l.k_stop > 0.0
+            && theta.yaw.abs() > LEAST_STOPPED_FOLD)
+            .then(|| {
+                let about = |k: usize| {
+                    let (centre, dcm) = &deployed_pose[k];
+                    (k > 0).then(|| inertia_about_line(&masses[k], (centre, dcm), &origin, &z))
+                };
+                FoldStop::new(l.k_stop, theta.yaw, [about(parent), about(child)])
+            });
+        if let Some(stop) = stop {
+            report.stops.push((hname.clone(), stop));
+        }
+        let _ = writeln!(
+            out,
+            "[[hinge]]\nname = \"{hname}\"\nparent = \"{}\"\nchild = \"{}\"\na0 = {a0}\na = {{ child_com = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}\n{}\n",
+            name(parent),
+            name(child),
+            child_com.x,
+            child_com.y,
+            child_com.z,
+            theta_c_a.yaw,
+            theta_c_a.pitch,
+            theta_c_a.roll,
+            l.text(stop.as_ref()),
+        );
         report.strains.push(HingeStrain {
             hinge: hname.clone(),
             fold: theta.yaw,
@@ -572,6 +573,7 @@ mod tests {
         c_fold: 0.0,
         c_translation: 0.0,
         c_rotation: 0.0,
+        k_stop: 0.0,
     };
 
     /// Every hinge of `s` is closed at the state `y`: δ, pitch and roll within round-off

@@ -30,7 +30,7 @@ def flasher(gores: int, rings: int, **options) -> tuple["Scenario", str]:
     generator's report. Options as ``foldsim generate flasher`` takes them, with _ for -:
     hub_radius, thickness, areal_density, hub_mass, hub_inertia, panels ("triangles",
     "quads", "ring-quads"), k_fold, c_fold, k_panel_bending, c_panel_bending, k_translation,
-    c_translation, k_bending, c_rotation, spin_rpm, duration, output_step, tolerance,
+    c_translation, k_bending, c_rotation, k_stop, spin_rpm, duration, output_step, tolerance,
     integrator, release_at."""
     native, report = _foldsim.flasher(count(gores, "gores"), count(rings, "rings"), **options)
     return _wrap(native), report

@@ -329,6 +329,10 @@ pub struct FlasherArgs {
     /// Damping of every hinge's two rotations off its fold axis, N·m·s/rad.
     #[arg(long, default_value_t = FlasherOptions::default().laws.c_rotation)]
     pub c_rotation: f64,
+    /// Thick panels (axes shifted): stiffness of each folding crease's stop at flat, where
+    /// its panels' edges meet, N·m/rad (0: no stops); damped for the contact's restitution.
+    #[arg(long, default_value_t = FlasherOptions::default().laws.k_stop)]
+    pub k_stop: f64,
     /// Initial hub spin about its axis, rev/min.
     #[arg(long, default_value_t = FlasherOptions::default().spin_rpm)]
     pub spin_rpm: f64,

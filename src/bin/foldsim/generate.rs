@@ -93,6 +93,7 @@ pub(crate) fn generate_flasher(
             c_translation: a.c_translation,
             k_rotation,
             c_rotation: a.c_rotation,
+            k_stop: a.k_stop,
         },
         spin_rpm: a.spin_rpm,
         duration,

@@ -361,8 +361,9 @@ fn zfolded_thick_stack_stays_at_rest() {
 
 /// The implicit path's exact Jacobian with contact: the contact forces' derivatives by dual
 /// numbers against central differences of the right-hand side, at a state where the cube is
-/// tilted, spinning and sliding 1 mm deep into the slab (16 points in contact, with damping
-/// and friction), the impact speeds held as the run holds them (accepted first). 1e-8 of the
+/// tilted, spinning and sliding 1 mm deep into the slab, itself turning (16 points in
+/// contact, with damping and friction), the impact speeds held as the run holds them
+/// (accepted first). 1e-8 of the
 /// entries' scale, as for the hinge laws. The depth keeps every point far from δ = 0, where
 /// δ^1.5 has no bounded third derivative: central differences at step h are off by
 /// ~0.04 (h/δ)² relative, 4e-10 here at h = 1e-7.
@@ -380,6 +381,9 @@ fn exact_jacobian_with_contact_matches_differences() {
     }
     y[B + 10] = 0.3;
     y[B + 11] = -0.2;
+    // The slab turning too, so that the probed body's rate enters the sample's velocity.
+    y[10] = 0.05;
+    y[12] = -0.1;
     let dynamics = foldsim::dynamics::Dynamics::new(&s.model, refs);
     dynamics.initialize_memory(&y);
     dynamics.accept(0.0, &y).unwrap();

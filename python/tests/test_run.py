@@ -79,7 +79,7 @@ def test_the_gil_is_released_while_it_integrates():
     assert end - start > 0.3 and len(during) > 0.3 * (end - start) / 0.005
 
 
-def test_ctrl_c_stops_a_run():
+def test_ctrl_c_stops_a_run(ctrl_c):
     s = foldsim.load(ROOT / "examples" / "flasher-starshade.toml")
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()

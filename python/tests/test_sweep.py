@@ -81,7 +81,7 @@ def test_dask_local_cluster_gives_the_same_table():
                 assert remote.equals(local), chunk
 
 
-def test_ctrl_c_stops_a_sweep():
+def test_ctrl_c_stops_a_sweep(ctrl_c):
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     started = time.monotonic()

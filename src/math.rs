@@ -338,6 +338,23 @@ pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
     angle + 2.0 * PI * turns
 }
 
+/// A body's moment of inertia about a line, kg·m²: mass `mass` (kg), inertia about its centre
+/// of mass `inertia_in_body` (kg·m², body frame), centre `centre` (m, N) and attitude
+/// `dcm_n_b`; the line through `point` (m, N) along the unit vector `axis` (N):
+/// `aᵀ [N b] I [b N] a + m d²`, d the centre's distance from the line (parallel axes).
+pub fn inertia_about_line(
+    mass: f64,
+    inertia_in_body: &Mat3,
+    (centre, dcm_n_b): (&Vec3, &Mat3),
+    point: &Vec3,
+    axis: &Vec3,
+) -> f64 {
+    let d = centre - point;
+    let perp = d - axis * d.dot(axis);
+    let a_in_body = dcm_n_b.transpose() * axis;
+    mass * perp.norm_squared() + a_in_body.dot(&(inertia_in_body * a_in_body))
+}
+
 /// Skew-symmetric cross-product matrix `[v×]`.
 pub fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
     let z = T::zero();

@@ -296,10 +296,7 @@ fn inertia_about(model: &Model, motions: &[BodyMotion], center: &Vec3, axis: &Ve
         .iter()
         .zip(motions)
         .map(|(b, m)| {
-            let d = m.r_in_n - center;
-            let perp = d - axis * d.dot(axis);
-            let a_in_body = m.dcm_n_b.transpose() * axis;
-            b.mass * perp.norm_squared() + a_in_body.dot(&(b.inertia_in_body * a_in_body))
+            crate::math::inertia_about_line(b.mass, &b.inertia_in_body, (&m.r_in_n, &m.dcm_n_b), center, axis)
         })
         .sum()
 }

@@ -92,8 +92,8 @@ pub struct ConstraintRow {
 /// A body pair in contact (sample body A, probed body B): A's and B's motions seeded at lanes
 /// 0..13 and 13..26, what a sample's place and velocity in B need from them (values and their
 /// 26 derivatives, in plain matrices), and the contact force on A summed over the pair's
-/// points with its moments about each body's centre of mass (N, N·m, B frame), with their
-/// derivatives.
+/// points with its moment about B's centre of mass (N, N·m, B frame), with their derivatives
+/// (the moment about A's centre follows from these two at the end).
 struct PairSum {
     bodies: (usize, usize),
     /// `[N B]`.
@@ -110,7 +110,6 @@ struct PairSum {
     /// `[B N]ω_B`, rad/s.
     omega_b_in_b: Lanes3,
     force_in_b: Lanes3,
-    moment_about_a_in_b: Lanes3,
     moment_about_b_in_b: Lanes3,
 }
 
@@ -142,14 +141,7 @@ impl Lanes3 {
 
 /// `[a×] m`: the cross product of a plain vector with each column of `m`.
 fn cross_lanes(a: &nalgebra::Vector3<f64>, m: &SMatrix<f64, 3, 26>) -> SMatrix<f64, 3, 26> {
-    let mut out = SMatrix::<f64, 3, 26>::zeros();
-    for k in 0..26 {
-        let c = m.column(k);
-        out[(0, k)] = a.y * c[2] - a.z * c[1];
-        out[(1, k)] = a.z * c[0] - a.x * c[2];
-        out[(2, k)] = a.x * c[1] - a.y * c[0];
-    }
-    out
+    crate::math::skew(a) * m
 }
 
 impl PairSum {
@@ -172,7 +164,6 @@ impl PairSum {
             omega_b_in_b: Lanes3::of(&(dcm_b_n * mb.omega_in_n)),
             dcm_n_b: mb.dcm_n_b,
             force_in_b: Lanes3::zero(),
-            moment_about_a_in_b: Lanes3::zero(),
             moment_about_b_in_b: Lanes3::zero(),
         }
     }
@@ -219,14 +210,19 @@ impl PairSum {
         };
         self.force_in_b.value += force.value;
         self.force_in_b.lanes += force.lanes;
-        // p × f: [p×] df − [f×] dp; about A's centre the arm is p − a.
+        // p × f: [p×] df − [f×] dp.
         self.moment_about_b_in_b.value += point.value.cross(&force.value);
         self.moment_about_b_in_b.lanes +=
             cross_lanes(&point.value, &force.lanes) - cross_lanes(&force.value, &point.lanes);
-        let arm = point.value - self.a_in_b.value;
-        self.moment_about_a_in_b.value += arm.cross(&force.value);
-        self.moment_about_a_in_b.lanes +=
-            cross_lanes(&arm, &force.lanes) - cross_lanes(&force.value, &(point.lanes - self.a_in_b.lanes));
+    }
+
+    /// The moment about A's centre: `Σ (p − a) × f = M_B − a × F`, with its derivatives.
+    fn moment_about_a_in_b(&self) -> Lanes3 {
+        let (a, f) = (&self.a_in_b, &self.force_in_b);
+        Lanes3 {
+            value: self.moment_about_b_in_b.value - a.value.cross(&f.value),
+            lanes: self.moment_about_b_in_b.lanes - cross_lanes(&a.value, &f.lanes) + cross_lanes(&f.value, &a.lanes),
+        }
     }
 }
 
@@ -343,7 +339,7 @@ impl ExactJacobian for Dynamics<'_> {
             let flush = |sum: PairSum, hinge_blocks: &mut Vec<_>, torque_in_n: &mut Vec<Vector3<f64>>| {
                 let (a, b) = sum.bodies;
                 let force_in_n = sum.dcm_n_b * sum.force_in_b.dual();
-                let on_a = (force_in_n, sum.dcm_n_b * sum.moment_about_a_in_b.dual());
+                let on_a = (force_in_n, sum.dcm_n_b * sum.moment_about_a_in_b().dual());
                 let on_b = (-force_in_n, -(sum.dcm_n_b * sum.moment_about_b_in_b.dual()));
                 for (body_index, (force, torque)) in [(a, on_a), (b, on_b)] {
                     torque_in_n[body_index] += torque.map(re);

@@ -4,9 +4,6 @@
 //! flat on the side away from its stowed fold (the panels' edges meet there: a thick crease
 //! with its axis off the mid-plane folds one way only).
 
-use crate::math::{Mat3, Vec3};
-use crate::model::shape::MassProperties;
-
 /// The response of one kind of crease, the fold about A's z axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CreaseLaw {
@@ -26,10 +23,9 @@ pub struct CreaseLaw {
     pub k_stop: f64,
 }
 
-/// The restitution a crease's stop at flat is damped for, the contact's default (the
-/// `[contact]` table the flasher generator writes): the panels' edges meeting at flat bounce
-/// as their faces do.
-pub const STOP_RESTITUTION: f64 = 0.3;
+/// The coefficient of restitution of thick panels meeting: face on face (the `[contact]`
+/// table the flasher generator writes) and edge on edge at a crease's stop at flat.
+pub const RESTITUTION: f64 = 0.3;
 
 /// A fold at least this far from flat when stowed (rad) gets a stop at flat; a crease stowed
 /// flat (the triangle model's diagonals) bends either way and gets none.
@@ -49,7 +45,7 @@ pub struct FoldStop {
 impl FoldStop {
     /// A stop of `stiffness` (N·m/rad) for a fold stowed at `fold` (rad), damped so that two
     /// bodies of moments of inertia `inertia` (kg·m², each about the fold axis; `None`: a body
-    /// that does not turn, the hub) meeting at it part with `STOP_RESTITUTION`: a linear
+    /// that does not turn, the hub) meeting at it part with `RESTITUTION`: a linear
     /// spring and dashpot on the reduced inertia `I` parts after half a damped period with
     /// `e = exp(−πζ/√(1 − ζ²))`, so `ζ = −ln e / √(π² + ln² e)` and `c = 2ζ√(k I)` (the
     /// linear spring–dashpot's coefficient of restitution, contact ending where the spring's
@@ -60,21 +56,10 @@ impl FoldStop {
             [Some(a), None] | [None, Some(a)] => a,
             [None, None] => 0.0,
         };
-        let log_e = STOP_RESTITUTION.ln();
+        let log_e = RESTITUTION.ln();
         let zeta = -log_e / (std::f64::consts::PI.powi(2) + log_e * log_e).sqrt();
         Self { stiffness, damping: 2.0 * zeta * (stiffness * reduced).sqrt(), free_above: fold > 0.0 }
     }
-}
-
-/// A body's moment of inertia about a line (kg·m²): `mass` its mass properties (body frame),
-/// `(centre, dcm_n_b)` its centre of mass (m, N) and attitude, the line through `point`
-/// (m, N) along the unit vector `axis` (N): `aᵀ [N b] I [N b]ᵀ a + m d²`, d the centre's
-/// distance from the line (parallel axes).
-pub fn inertia_about_line(mass: &MassProperties, (centre, dcm_n_b): (&Vec3, &Mat3), point: &Vec3, axis: &Vec3) -> f64 {
-    let d = centre - point;
-    let off = d - axis * d.dot(axis);
-    let i_n = dcm_n_b * mass.inertia_about_centroid * dcm_n_b.transpose();
-    axis.dot(&(i_n * axis)) + mass.mass * off.norm_squared()
 }
 
 impl CreaseLaw {
@@ -112,6 +97,7 @@ impl CreaseLaw {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::{Mat3, Vec3};
 
     /// The damping gives the restitution asked for: a unit inertia on the stop's spring and
     /// dashpot, met at 1 rad/s, integrated finely until it parts (to 1e-6; classical Runge–Kutta's
@@ -140,7 +126,7 @@ mod tests {
                     break;
                 }
             }
-            assert!((-rate - STOP_RESTITUTION).abs() < 1e-6, "k {k}, I {i}: parts at {}", -rate);
+            assert!((-rate - RESTITUTION).abs() < 1e-6, "k {k}, I {i}: parts at {}", -rate);
         }
     }
 
@@ -157,7 +143,13 @@ mod tests {
             thickness: 0.0,
         };
         let m = plate.mass_properties(1.0);
-        let i = inertia_about_line(&m, (&Vec3::zeros(), &Mat3::identity()), &Vec3::new(0.5, 0.0, 0.0), &Vec3::y());
+        let i = crate::math::inertia_about_line(
+            m.mass,
+            &m.inertia_about_centroid,
+            (&Vec3::zeros(), &Mat3::identity()),
+            &Vec3::new(0.5, 0.0, 0.0),
+            &Vec3::y(),
+        );
         assert!((i - 1.0 / 3.0).abs() < 1e-12, "{i}");
     }
 }

@@ -507,7 +507,12 @@ pub struct FlasherReport {
 }
 
 /// The `[contact]` table written with thick panels.
-pub const CONTACT_DEFAULTS: &str = "\n# Thick panels: contact between every pair of bodies (docs/contact.md).\n[contact]\nstiffness = 1e8       # N/m^1.5 per contact point\nrestitution = 0.3\nfriction = 0.2\n";
+pub fn contact_defaults() -> String {
+    format!(
+        "\n# Thick panels: contact between every pair of bodies (docs/contact.md).\n[contact]\nstiffness = 1e8       # N/m^1.5 per contact point\nrestitution = {:?}\nfriction = 0.2\n",
+        super::crease::RESTITUTION
+    )
+}
 
 /// Builds the scenario text of a flasher and its report.
 pub fn flasher_scenario(
@@ -548,7 +553,7 @@ pub fn flasher_scenario(
         // Thick panels stowed in layers: contact keeps them from passing through each other
         // (docs/contact.md); the values are a starting point, the report of a run says
         // whether the penetration stays a small part of the thickness.
-        text.push_str(CONTACT_DEFAULTS);
+        text.push_str(&contact_defaults());
     }
     let strain_energy = sheet
         .strains
@@ -643,7 +648,7 @@ impl FlasherReport {
                             first.stiffness,
                             lo,
                             hi,
-                            super::crease::STOP_RESTITUTION
+                            super::crease::RESTITUTION
                         );
                     }
                 }

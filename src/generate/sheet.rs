@@ -88,7 +88,7 @@ impl HingeStrain {
 }
 
 pub use super::crease::CreaseLaw;
-use super::crease::{FoldStop, LEAST_STOPPED_FOLD, inertia_about_line};
+use super::crease::{FoldStop, LEAST_STOPPED_FOLD};
 
 /// What a sheet is made of and how its scenario runs.
 #[derive(Clone, Debug, PartialEq)]
@@ -482,7 +482,10 @@ pub fn sheet_scenario(
             .then(|| {
                 let about = |k: usize| {
                     let (centre, dcm) = &deployed_pose[k];
-                    (k > 0).then(|| inertia_about_line(&masses[k], (centre, dcm), &origin, &z))
+                    (k > 0).then(|| {
+                        let m = &masses[k];
+                        crate::math::inertia_about_line(m.mass, &m.inertia_about_centroid, (centre, dcm), &origin, &z)
+                    })
                 };
                 FoldStop::new(l.k_stop, theta.yaw, [about(parent), about(child)])
             });

@@ -21,12 +21,24 @@
 //! formed. Beyond half the skin the list is rebuilt (at an accepted step) or, at a trial
 //! state, every pair is probed. Skipping never changes a result: only samples not in contact
 //! are skipped, and the rest are probed in the full search's order.
+//!
+//! At every accepted step the gaps of the samples that may be probed are measured again
+//! there and their motion counted from there ([`Proximity::rereference`]): the bound then
+//! grows with one step's motion, not with all the motion since the build, and a trial
+//! state probes about the samples within a step's reach of the other body (on the 5 × 2
+//! thick flasher 680 per right-hand side against 5,000, of which 262 touch).
 
 use super::{ContactMemory, ContactPoint, ContactSet, Frame, Workspace};
 use crate::math::{Mat3, Vec3};
 
 /// A margin for the rounding of two distances in the list's bounds, m.
 const SLACK: f64 = 1e-9;
+
+/// The motion since the build, in skins, past which an accepted state rebuilds the list
+/// (below the half skin where it stops covering every pair). On the 5 × 2 thick flasher,
+/// 0.5 left 934 trial states to the full search (a third of the samples probed), 0.35 one
+/// (4.5 s against 5.2 s), 0.25 as many as 0.35 at more builds.
+pub const REBUILD: f64 = 0.35;
 
 impl ContactSet {
     /// As [`ContactSet::evaluate`], probing only the samples `near` says may touch (the same
@@ -126,6 +138,38 @@ pub struct NearPair {
     pub b_in_a: NearSide,
 }
 
+impl NearSide {
+    /// Takes the pose `(dcm_b_a, r_ab)` of the body in the other's frame as the side's new
+    /// reference (`solid` the other body's, `samples` the body's own). A sample's gap is
+    /// measured again there if it may come near soon; one farther than `FAR` times its
+    /// motion since the old reference keeps its old gap less that motion, a lower bound of
+    /// its distance now (the distance is 1-Lipschitz), to be measured when it comes nearer.
+    fn rereference(
+        &mut self,
+        samples: &[super::solid::Sample],
+        solid: &super::solid::Solid,
+        dcm_b_a: &Mat3,
+        r_ab: &Vec3,
+    ) {
+        const FAR: f64 = 4.0;
+        let (shift, chord) = self.motion(dcm_b_a, r_ab);
+        let mut least = f64::INFINITY;
+        for s in &mut self.samples {
+            let moved = shift + chord * s.reach;
+            let bound = s.gap - moved;
+            s.gap = if bound > FAR * moved {
+                bound
+            } else {
+                let sample = &samples[s.index as usize];
+                solid.signed_distance(&(dcm_b_a * sample.point_in_body + r_ab)).0 - sample.radius
+            };
+            least = least.min(s.gap);
+        }
+        self.gap = least;
+        self.reference = (*dcm_b_a, *r_ab);
+    }
+}
+
 /// The chord `2 sin(θ/2)` of the rotation `θ` that takes attitude `from` to `to` (the
 /// largest distance a point at unit distance from the origin moves): `‖to − from‖_F / √2`,
 /// as the difference of a rotation and the identity has singular values 2 sin(θ/2) twice and
@@ -176,6 +220,39 @@ impl Proximity {
             pairs.push(NearPair { a, b, gap: a_in_b.gap.min(b_in_a.gap), a_in_b, b_in_a });
         }
         Self { ref_position, ref_dcm, reach, pairs, skin }
+    }
+
+    /// At an accepted state `frames`: if every body has moved less than [`REBUILD`] skins
+    /// since the build, brings the samples' gaps up to date for every side of a pair whose
+    /// bound lets some of its samples be probed ([`NearSide::rereference`]), so that the
+    /// right-hand sides of the steps that follow probe only the samples that can reach the
+    /// other body within them (a sample's gap at any reference, less its motion since,
+    /// bounds its distance; which samples are in the list stays the build's), and returns
+    /// true; else false, changing nothing: the caller rebuilds the list (rebuilt before the
+    /// half skin is reached, the trial states of the next step seldom leave its reach, where
+    /// every pair would be probed).
+    pub fn rereference(&mut self, set: &ContactSet, frames: &[Frame], motion: &mut Vec<f64>) -> bool {
+        if !self.motion(frames, motion) || motion.iter().any(|&m| m >= REBUILD * self.skin) {
+            return false;
+        }
+        for pair in &mut self.pairs {
+            if motion[pair.a] + motion[pair.b] + SLACK < pair.gap {
+                continue;
+            }
+            for (body, other, side) in [(pair.a, pair.b, &mut pair.a_in_b), (pair.b, pair.a, &mut pair.b_in_a)] {
+                let (Some(sa), Some(sb)) = (&set.solids[body], &set.solids[other]) else { continue };
+                if side.samples.is_empty() {
+                    continue;
+                }
+                let (dcm_b_a, r_ab) = frames[body].in_frame_of(&frames[other]);
+                let (shift, chord) = side.motion(&dcm_b_a, &r_ab);
+                if side.gap >= shift + chord * side.reach + SLACK {
+                    continue;
+                }
+                side.rereference(&sa.samples, sb, &dcm_b_a, &r_ab);
+            }
+        }
+        true
     }
 
     /// Per body, how far any of its points may have moved since the reference (m, in the

@@ -260,7 +260,7 @@ impl<'m> Dynamics<'m> {
         fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
         let mut proximity = self.proximity.borrow_mut();
         let mut motion = Vec::new();
-        if proximity.as_ref().is_none_or(|p| !p.motion(frames, &mut motion)) {
+        if proximity.as_mut().is_none_or(|p| !p.rereference(set, frames, &mut motion)) {
             *proximity = Some(Proximity::build(set, frames, set.skin()));
         }
     }

@@ -451,7 +451,8 @@ fn animation_frames_show_the_touch() {
 /// (panels closing, bouncing and settling), at every output row, the points found through a
 /// list built at the row before (or several rows before: bodies moved farther), and through
 /// one built there and brought up to date at every row since (as accepted steps do, rebuilt
-/// where it says so), are exactly those of a full search.
+/// where it says so), are exactly those of a full search, with the impact speeds of the
+/// points in contact at the row before (the memory the lists keep for their probes).
 #[test]
 fn proximity_list_finds_every_contact() {
     use foldsim::contact::proximity::Proximity;
@@ -472,11 +473,16 @@ fn proximity_list_finds_every_contact() {
             })
             .collect()
     };
-    let memory = ContactMemory::default();
     let (mut compared, mut with_contact) = (0, 0);
     for lag in [1, 5, 20] {
         for k in lag..obs.len() {
-            let near = Proximity::build(set, &frames(&obs[k - lag]), set.skin());
+            // The points of the row before as the memory, at their rates then (the impact
+            // speeds the lists must carry to their probes).
+            let mut memory = ContactMemory::default();
+            let mut before = Vec::new();
+            set.evaluate(&frames(&obs[k - 1]), &memory, &mut Default::default(), &mut before);
+            memory.extend(before.iter().map(|p| (p.key, p.rate.abs() + 0.1)));
+            let mut near = Proximity::build(set, &frames(&obs[k - lag]), set.skin());
             let mut updated = near.clone();
             for o in &obs[k - lag + 1..k] {
                 let f = frames(o);
@@ -484,6 +490,8 @@ fn proximity_list_finds_every_contact() {
                     updated = Proximity::build(set, &f, set.skin());
                 }
             }
+            near.remember(&memory);
+            updated.remember(&memory);
             let now = frames(&obs[k]);
             let mut full = Vec::new();
             set.evaluate(&now, &memory, &mut Default::default(), &mut full);

@@ -285,7 +285,7 @@ impl ContactSet {
                 let s = &sa.samples[k];
                 let gap = sb.signed_distance(&(dcm_b_a * s.point_in_body + r_ab)).0 - s.radius;
                 if gap < cap {
-                    near.push(NearSample { index: k as u32, gap, reach: s.point_in_body.norm() });
+                    near.push(NearSample { index: k as u32, gap, reach: s.point_in_body.norm(), impact: f64::NAN });
                 }
             }
         }
@@ -341,50 +341,47 @@ impl ContactSet {
                 continue;
             }
             for k in run.clone() {
-                self.probe_sample(body, other, k, (fa, fb), (&dcm_b_a, &r_ab), crease, memory, out);
+                let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
+                self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), crease, || memory.get(&key).copied(), out);
             }
         }
     }
 
-    /// Sample `k` of `body` against `other`'s solid (see [`Self::probe`]).
-    #[allow(clippy::too_many_arguments)]
-    fn probe_sample(
+    /// Sample `key.sample` of `key.body` against `key.other`'s solid (see [`Self::probe`]),
+    /// with `impact` its impact speed if it was in contact at the last accepted state (m/s;
+    /// asked only of a sample that penetrates, as most probed do not).
+    pub(crate) fn probe_sample(
         &self,
-        body: usize,
-        other: usize,
-        k: usize,
+        key: PointKey,
         (fa, fb): (&Frame, &Frame),
         (dcm_b_a, r_ab): (&Mat3, &Vec3),
         crease: Option<&Vec<bool>>,
-        memory: &ContactMemory,
+        impact: impl FnOnce() -> Option<f64>,
         out: &mut Vec<ContactPoint>,
     ) {
-        let (Some(sa), Some(sb)) = (&self.solids[body], &self.solids[other]) else { return };
+        let k = key.sample as usize;
+        let (Some(sa), Some(sb)) = (&self.solids[key.body as usize], &self.solids[key.other as usize]) else { return };
         let s = &sa.samples[k];
-        {
-            if crease.is_some_and(|c| c[k]) {
-                return;
-            }
-            let p = dcm_b_a * s.point_in_body + r_ab;
-            // Quick rejection by `other`'s bounding box.
-            let q = (p - sb.bound_center_in_body).abs() - sb.bound_half_in_body;
-            if q.max() > s.radius {
-                return;
-            }
-            let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-            // The memory is looked up only for a sample that penetrates (most probed do not).
-            let Some(f) = self.point_force_at(s, sb, fa, fb, &p, || memory.get(&key).copied()) else { return };
-            out.push(ContactPoint {
-                key,
-                point_in_n: f.point_in_n,
-                normal_in_n: f.normal_in_n,
-                depth: f.depth,
-                rate: f.rate,
-                force_in_n: f.force_in_n,
-                energy: self.law.energy(f.depth),
-                dissipation: f.dissipation,
-            });
+        if crease.is_some_and(|c| c[k]) {
+            return;
         }
+        let p = dcm_b_a * s.point_in_body + r_ab;
+        // Quick rejection by `other`'s bounding box.
+        let q = (p - sb.bound_center_in_body).abs() - sb.bound_half_in_body;
+        if q.max() > s.radius {
+            return;
+        }
+        let Some(f) = self.point_force_at(s, sb, fa, fb, &p, impact) else { return };
+        out.push(ContactPoint {
+            key,
+            point_in_n: f.point_in_n,
+            normal_in_n: f.normal_in_n,
+            depth: f.depth,
+            rate: f.rate,
+            force_in_n: f.force_in_n,
+            energy: self.law.energy(f.depth),
+            dissipation: f.dissipation,
+        });
     }
 
     /// The contact of `sample` (of the body at `fa`) in `solid` (of the body at `fb`), if it

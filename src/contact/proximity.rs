@@ -28,7 +28,7 @@
 //! state probes about the samples within a step's reach of the other body (on the 5 × 2
 //! thick flasher 680 per right-hand side against 5,000, of which 262 touch).
 
-use super::{ContactMemory, ContactPoint, ContactSet, Frame, Workspace};
+use super::{ContactMemory, ContactPoint, ContactSet, Frame, PointKey, Workspace};
 use crate::math::{Mat3, Vec3};
 
 /// A margin for the rounding of two distances in the list's bounds, m.
@@ -73,8 +73,9 @@ impl ContactSet {
                 }
                 for s in &side.samples {
                     if s.gap < shift + chord * s.reach + SLACK {
-                        let k = s.index as usize;
-                        self.probe_sample(body, other, k, (fa, fb), (&dcm_b_a, &r_ab), None, memory, out);
+                        let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
+                        let impact = || (!s.impact.is_nan()).then_some(s.impact);
+                        self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), None, impact, out);
                     }
                 }
             }
@@ -91,6 +92,11 @@ pub struct NearSample {
     pub gap: f64,
     /// Its centre's distance from its body's origin, m.
     pub reach: f64,
+    /// Its impact speed if it was in contact at the last accepted state, m/s (NaN if not):
+    /// the contact memory's entry, kept here by [`Proximity::remember`] so that a probe
+    /// needs no look-up in the memory's map (a quarter of the stowed thick starshade's
+    /// right-hand side went to those look-ups).
+    pub impact: f64,
 }
 
 /// One body's samples that may enter the other's solid.
@@ -253,6 +259,19 @@ impl Proximity {
             }
         }
         true
+    }
+
+    /// Copies the contact memory's impact speeds into the list's samples (NaN for a sample
+    /// not in it): after every change of the memory, before the next probe.
+    pub fn remember(&mut self, memory: &ContactMemory) {
+        for pair in &mut self.pairs {
+            for (body, other, side) in [(pair.a, pair.b, &mut pair.a_in_b), (pair.b, pair.a, &mut pair.b_in_a)] {
+                for s in &mut side.samples {
+                    let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
+                    s.impact = memory.get(&key).copied().unwrap_or(f64::NAN);
+                }
+            }
+        }
     }
 
     /// Per body, how far any of its points may have moved since the reference (m, in the

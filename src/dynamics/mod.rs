@@ -261,7 +261,9 @@ impl<'m> Dynamics<'m> {
         let mut proximity = self.proximity.borrow_mut();
         let mut motion = Vec::new();
         if proximity.as_mut().is_none_or(|p| !p.rereference(set, frames, &mut motion)) {
-            *proximity = Some(Proximity::build(set, frames, set.skin()));
+            let mut list = Proximity::build(set, frames, set.skin());
+            list.remember(&self.contact_memory.borrow());
+            *proximity = Some(list);
         }
     }
 
@@ -342,6 +344,9 @@ impl<'m> Dynamics<'m> {
         let old = std::mem::take(&mut *memory);
         for p in points {
             memory.insert(p.key, old.get(&p.key).copied().unwrap_or(p.rate));
+        }
+        if let Some(list) = self.proximity.borrow_mut().as_mut() {
+            list.remember(&memory);
         }
     }
 

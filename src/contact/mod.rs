@@ -283,9 +283,16 @@ impl ContactSet {
                     continue;
                 }
                 let s = &sa.samples[k];
-                let gap = sb.signed_distance(&(dcm_b_a * s.point_in_body + r_ab)).0 - s.radius;
+                let (d, lateral) = sb.distance_and_lateral(&(dcm_b_a * s.point_in_body + r_ab));
+                let gap = d - s.radius;
                 if gap < cap {
-                    near.push(NearSample { index: k as u32, gap, reach: s.point_in_body.norm(), impact: f64::NAN });
+                    near.push(NearSample {
+                        index: k as u32,
+                        gap,
+                        lateral,
+                        reach: s.point_in_body.norm(),
+                        impact: f64::NAN,
+                    });
                 }
             }
         }
@@ -342,7 +349,15 @@ impl ContactSet {
             }
             for k in run.clone() {
                 let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-                self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), crease, || memory.get(&key).copied(), out);
+                self.probe_sample(
+                    key,
+                    (fa, fb),
+                    (&dcm_b_a, &r_ab),
+                    crease,
+                    f64::INFINITY,
+                    || memory.get(&key).copied(),
+                    out,
+                );
             }
         }
     }
@@ -356,6 +371,7 @@ impl ContactSet {
         (fa, fb): (&Frame, &Frame),
         (dcm_b_a, r_ab): (&Mat3, &Vec3),
         crease: Option<&Vec<bool>>,
+        lateral_bound: f64,
         impact: impl FnOnce() -> Option<f64>,
         out: &mut Vec<ContactPoint>,
     ) {
@@ -371,7 +387,7 @@ impl ContactSet {
         if q.max() > s.radius {
             return;
         }
-        let Some(f) = self.point_force_at(s, sb, fa, fb, &p, impact) else { return };
+        let Some(f) = self.point_force_at(s, sb, fa, fb, &p, lateral_bound, impact) else { return };
         out.push(ContactPoint {
             key,
             point_in_n: f.point_in_n,
@@ -398,10 +414,13 @@ impl ContactSet {
     ) -> Option<PointForce<f64>> {
         let point_in_b =
             fb.dcm_n_b.transpose() * (fa.position_in_n + fa.dcm_n_b * sample.point_in_body - fb.position_in_n);
-        self.point_force_at(sample, solid, fa, fb, &point_in_b, || impact_speed)
+        self.point_force_at(sample, solid, fa, fb, &point_in_b, f64::INFINITY, || impact_speed)
     }
 
-    /// [`ContactSet::point_force`] with the sample's centre in `fb`'s body frame given (m).
+    /// [`ContactSet::point_force`] with the sample's centre in `fb`'s body frame given (m),
+    /// and a bound on its lateral distance in `solid` (m; see [`Solid::face_distance`], ∞ for
+    /// none).
+    #[allow(clippy::too_many_arguments)]
     fn point_force_at(
         &self,
         sample: &Sample,
@@ -409,9 +428,11 @@ impl ContactSet {
         fa: &Frame,
         fb: &Frame,
         point_in_b: &Vec3,
+        lateral_bound: f64,
         impact_speed: impl FnOnce() -> Option<f64>,
     ) -> Option<PointForce<f64>> {
-        let (d, normal_in_b) = solid.signed_distance(point_in_b);
+        let (d, normal_in_b) =
+            solid.face_distance(point_in_b, lateral_bound).unwrap_or_else(|| solid.signed_distance(point_in_b));
         let depth = sample.radius - d;
         if depth <= 0.0 {
             return None;

@@ -75,7 +75,8 @@ impl ContactSet {
                     if s.gap < shift + chord * s.reach + SLACK {
                         let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
                         let impact = || (!s.impact.is_nan()).then_some(s.impact);
-                        self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), None, impact, out);
+                        let lateral = s.lateral + shift + chord * s.reach + SLACK;
+                        self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), None, lateral, impact, out);
                     }
                 }
             }
@@ -90,6 +91,11 @@ pub struct NearSample {
     pub index: u32,
     /// Its gap `d − ρ` from the other body's solid at the reference, m (≤ 0 in contact).
     pub gap: f64,
+    /// Its centre's lateral distance in the other body's solid at the reference (or an upper
+    /// bound of it), m: see [`super::solid::Solid::face_distance`]. A sample well inside a
+    /// face's outline (as the stowed wrap's layers lie on each other) is then probed against
+    /// that face alone, not the outline's every edge.
+    pub lateral: f64,
     /// Its centre's distance from its body's origin, m.
     pub reach: f64,
     /// Its impact speed if it was in contact at the last accepted state, m/s (NaN if not):
@@ -163,12 +169,14 @@ impl NearSide {
         for s in &mut self.samples {
             let moved = shift + chord * s.reach;
             let bound = s.gap - moved;
-            s.gap = if bound > FAR * moved {
-                bound
+            if bound > FAR * moved {
+                s.gap = bound;
+                s.lateral += moved;
             } else {
                 let sample = &samples[s.index as usize];
-                solid.signed_distance(&(dcm_b_a * sample.point_in_body + r_ab)).0 - sample.radius
-            };
+                let (d, lateral) = solid.distance_and_lateral(&(dcm_b_a * sample.point_in_body + r_ab));
+                (s.gap, s.lateral) = (d - sample.radius, lateral);
+            }
             least = least.min(s.gap);
         }
         self.gap = least;

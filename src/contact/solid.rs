@@ -284,6 +284,53 @@ impl Solid {
     }
 }
 
+impl Solid {
+    /// The signed distance of `p_in_body` (m, body frame; see [`Self::signed_distance`]) and
+    /// its lateral part (m): for an extruded solid (prism, cylinder) the 2-D signed distance
+    /// from its outline in its plane, whatever the height (negative inside the outline); +∞
+    /// for a box (no shortcut by [`Self::face_distance`]).
+    pub fn distance_and_lateral(&self, p_in_body: &Vec3) -> (f64, f64) {
+        let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
+        match &self.kind {
+            SolidKind::Prism { polygon, half_thickness } => {
+                let (d2, g2) = polygon_distance(polygon, [p.x, p.y]);
+                (extrude(d2, g2, p.z, *half_thickness).0, d2)
+            }
+            SolidKind::Cylinder { radius, half_height } => {
+                let d2 = (p.x * p.x + p.y * p.y).sqrt() - radius;
+                (extrude(d2, [0.0, 0.0], p.z, *half_height).0, d2)
+            }
+            SolidKind::Cuboid { .. } => (self.signed_distance(p_in_body).0, f64::INFINITY),
+        }
+    }
+
+    /// [`Self::signed_distance`] of `p_in_body` (m, body frame) for a point known to be at
+    /// least `-lateral_bound` m inside an extruded solid's outline (its lateral distance, see
+    /// [`Self::distance_and_lateral`], at most `lateral_bound`), when that makes the nearest
+    /// face its top or bottom: the distance is then `|z| − h` along ±z, without the outline's
+    /// edges (the same arithmetic as the full computation, to the last bit). `None` when the
+    /// bound does not settle it.
+    pub fn face_distance(&self, p_in_body: &Vec3, lateral_bound: f64) -> Option<(f64, Vec3)> {
+        let h = match &self.kind {
+            SolidKind::Prism { half_thickness, .. } => *half_thickness,
+            SolidKind::Cylinder { half_height, .. } => *half_height,
+            SolidKind::Cuboid { .. } => return None,
+        };
+        if lateral_bound >= 0.0 {
+            return None;
+        }
+        let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
+        let dz = p.z.abs() - h;
+        // The lateral distance d2 ≤ lateral_bound < 0 and < dz: the extrusion's face case
+        // (see `extrude`).
+        if lateral_bound >= dz {
+            return None;
+        }
+        let sz = if p.z < 0.0 { -1.0 } else { 1.0 };
+        Some((dz, self.dcm_s_b.transpose() * Vec3::new(0.0, 0.0, sz)))
+    }
+}
+
 /// Parts of at most `spacing` in a length, at least 1; an error past [`MAX_SAMPLES`] (before
 /// anything is allocated).
 fn parts(length: f64, spacing: f64) -> Result<usize, String> {
@@ -473,6 +520,36 @@ mod tests {
                 let foot = p - n * d;
                 assert!(solid.signed_distance(&foot).0.abs() < 1e-12, "{:?}: foot of {p:?}", solid.kind);
             }
+        }
+    }
+
+    /// The face shortcut gives the full signed distance to the last bit wherever it answers,
+    /// and answers for points well inside a prism's or a cylinder's outline near a face.
+    #[test]
+    fn face_distance_is_the_signed_distance_where_it_answers() {
+        let square =
+            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let plate = Solid::plate(&square, 0.02, 0.01).unwrap();
+        let cyl = Solid::cylinder(0.5, 0.4, 0.1).unwrap();
+        let mut seed = 777_u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for solid in [&plate, &cyl] {
+            let mut answered = 0;
+            for _ in 0..2000 {
+                let p = Vec3::new(2.0 * rnd() - 0.5, 2.0 * rnd() - 0.5, 0.6 * rnd() - 0.3);
+                let (d, lateral) = solid.distance_and_lateral(&p);
+                assert_eq!(d, solid.signed_distance(&p).0);
+                for slack in [0.0, 1e-3] {
+                    if let Some(face) = solid.face_distance(&p, lateral + slack) {
+                        assert_eq!(face, solid.signed_distance(&p), "{:?} at {p:?}", solid.kind);
+                        answered += 1;
+                    }
+                }
+            }
+            assert!(answered > 500, "{:?}: {answered}", solid.kind);
         }
     }
 

@@ -348,29 +348,25 @@ impl ContactSet {
                 continue;
             }
             for k in run.clone() {
+                if crease.is_some_and(|c| c[k]) {
+                    continue;
+                }
                 let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-                self.probe_sample(
-                    key,
-                    (fa, fb),
-                    (&dcm_b_a, &r_ab),
-                    crease,
-                    f64::INFINITY,
-                    || memory.get(&key).copied(),
-                    out,
-                );
+                self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), f64::INFINITY, || memory.get(&key).copied(), out);
             }
         }
     }
 
-    /// Sample `key.sample` of `key.body` against `key.other`'s solid (see [`Self::probe`]),
-    /// with `impact` its impact speed if it was in contact at the last accepted state (m/s;
-    /// asked only of a sample that penetrates, as most probed do not).
+    /// Sample `key.sample` of `key.body` against `key.other`'s solid (see [`Self::probe`];
+    /// not a crease sample), with `impact` its impact speed if it was in contact at the last
+    /// accepted state (m/s; asked only of a sample that penetrates, as most probed do not)
+    /// and `lateral_bound` a bound on its lateral distance in the solid (m, ∞ for none; see
+    /// [`Solid::face_distance`]).
     pub(crate) fn probe_sample(
         &self,
         key: PointKey,
         (fa, fb): (&Frame, &Frame),
         (dcm_b_a, r_ab): (&Mat3, &Vec3),
-        crease: Option<&Vec<bool>>,
         lateral_bound: f64,
         impact: impl FnOnce() -> Option<f64>,
         out: &mut Vec<ContactPoint>,
@@ -378,9 +374,6 @@ impl ContactSet {
         let k = key.sample as usize;
         let (Some(sa), Some(sb)) = (&self.solids[key.body as usize], &self.solids[key.other as usize]) else { return };
         let s = &sa.samples[k];
-        if crease.is_some_and(|c| c[k]) {
-            return;
-        }
         let p = dcm_b_a * s.point_in_body + r_ab;
         // Quick rejection by `other`'s bounding box.
         let q = (p - sb.bound_center_in_body).abs() - sb.bound_half_in_body;

@@ -76,7 +76,7 @@ impl ContactSet {
                         let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
                         let impact = || (!s.impact.is_nan()).then_some(s.impact);
                         let lateral = s.lateral + shift + chord * s.reach + SLACK;
-                        self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), None, lateral, impact, out);
+                        self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), lateral, impact, out);
                     }
                 }
             }

@@ -31,14 +31,37 @@ pub const MOST_ACCELERATION: f64 = 1.4;
 /// with soft hinges, 6 × 3 soft; 1 cm) the projection after 2 s and 3 s of the run was
 /// 0.57–1.44 times the actual wall time with the cap at 1.4, against 0.53–1.09 at 1.5 and
 /// 0.71–2.89 at 1.2, and 7–150 times before the trend was taken (docs/outputs.md).
+///
+/// Under `integrator = "auto"` a run's first phase can be DOP853 held by a stiff hinge,
+/// steps 10–100 times shorter than the SDIRK4 it switches to (the thick starshade's first
+/// 1.6 ms took its first seconds: projected from them, 6.7 h for a run of 94 s). A change
+/// of method restarts the trend ([`Trend::restart`]): the projection is the time so far
+/// plus the rest at the pace since the change.
 #[derive(Clone, Debug, Default)]
 pub struct Trend {
     /// (wall time s, simulated time s, accepted steps), one per 1 % of the wall time so far
-    /// at most.
+    /// at most, since `origin`.
     samples: Vec<(f64, f64, usize)>,
+    /// Where the trend starts: the last change of method (wall s, simulated s, steps), or
+    /// zero.
+    origin: (f64, f64, usize),
 }
 
 impl Trend {
+    /// Starts the trend again from its last point (the method changed there): what came
+    /// before counts as time spent, not as pace.
+    pub fn restart(&mut self) {
+        if let Some(&last) = self.samples.last() {
+            self.origin = last;
+            self.samples.clear();
+        }
+    }
+
+    /// The simulated time where the trend starts, s (0, or the last change of method).
+    pub fn since(&self) -> f64 {
+        self.origin.1
+    }
+
     /// Adds a point: `simulated` s reached after `wall` s in `steps` accepted steps (`None`
     /// for work not made of steps, as a sweep's runs: its pace is then taken as steady).
     pub fn add(&mut self, wall: f64, simulated: f64, steps: Option<usize>) {
@@ -57,22 +80,76 @@ impl Trend {
     /// before the run has got anywhere.
     pub fn projected(&self, duration: f64) -> f64 {
         let Some(&(w, t, n)) = self.samples.last() else { return f64::INFINITY };
-        if t <= 0.0 || w <= 0.0 {
-            return f64::INFINITY;
-        }
         if t >= duration {
             return w;
         }
+        // Measured from the origin.
+        let (w0, t0, n0) = self.origin;
+        let (w, t, n, duration) = (w - w0, t - t0, n.saturating_sub(n0), duration - t0);
+        if t <= 0.0 || w <= 0.0 {
+            return f64::INFINITY;
+        }
         // The sample nearest to half the wall time so far, and whether the steps since have
         // grown.
-        let half = self.samples.iter().rev().find(|s| s.0 <= 0.5 * w).copied();
+        let half =
+            self.samples.iter().rev().map(|s| (s.0 - w0, s.1 - t0, s.2.saturating_sub(n0))).find(|s| s.0 <= 0.5 * w);
         let p = match half {
             Some((wh, th, nh)) if nh > 0 && n > nh && (t - th) / (n - nh) as f64 > 1.2 * th / nh as f64 => {
                 if th > 0.0 && wh > 0.0 { (t / th).ln() / (w / wh).ln() } else { MOST_ACCELERATION }
             }
             _ => 1.0,
         };
-        w * (duration / t).powf(1.0 / p.clamp(1.0, MOST_ACCELERATION))
+        w0 + w * (duration / t).powf(1.0 / p.clamp(1.0, MOST_ACCELERATION))
+    }
+}
+
+/// When a run's pace has been seen, for a projection: `after` of wall time in the method in
+/// use (s); but under `auto`, while it still runs the DOP853 it starts with and its steps are
+/// held by the stiffest hinge (`auto` then switches to SDIRK4 soon: see [`Trend`]), until it
+/// changes or four times `after` have passed.
+#[derive(Clone, Debug)]
+pub struct Phase {
+    /// Under `auto`: the fastest hinge's rate, 1/s (a step longer than 0.3 over it is held
+    /// by stability, as `Progress::pace` says).
+    auto_rate: Option<f64>,
+    after: f64,
+    method: Option<&'static str>,
+    held: bool,
+    changes: usize,
+    started: f64,
+}
+
+impl Phase {
+    /// For a run of `model` (under `auto` or not), its pace seen after `after`.
+    pub fn new(model: &Model, auto: bool, after: Duration) -> Self {
+        let auto_rate = auto.then(|| model.fastest_hinge().map_or(0.0, |r| r.rate));
+        Self { auto_rate, after: after.as_secs_f64(), method: None, held: false, changes: 0, started: 0.0 }
+    }
+
+    /// Notes the method in use at `wall` (s) and its last step (s); true if it changed (the
+    /// trend restarts).
+    pub fn changed(&mut self, method: &'static str, step: f64, wall: f64) -> bool {
+        let changed = self.method.is_some_and(|m| m != method);
+        if changed {
+            self.changes += 1;
+            self.started = wall;
+        }
+        self.method = Some(method);
+        if let Some(rate) = self.auto_rate
+            && step > 0.0
+        {
+            self.held = method == "dop853" && step * rate > 0.3;
+        }
+        changed
+    }
+
+    /// Whether the pace has been seen at `wall` (s).
+    pub fn seen(&self, wall: f64) -> bool {
+        if self.auto_rate.is_some() && self.changes == 0 && self.held {
+            wall >= 4.0 * self.after
+        } else {
+            wall - self.started >= self.after
+        }
     }
 }
 
@@ -91,6 +168,9 @@ pub struct Estimate {
     pub failed: bool,
     /// The whole run's wall time projected along the trial's trend ([`Trend`]), s.
     pub trend: f64,
+    /// Where the trend starts: the simulated time of the last change of method (s; 0 for
+    /// none) and the method since.
+    pub since: (f64, &'static str),
 }
 
 impl Estimate {
@@ -112,11 +192,15 @@ impl Estimate {
         let p = self.projected();
         let shown = if p.is_finite() { format!("about {}", human_seconds(p)) } else { "very long".to_string() };
         let linear = self.wall * self.duration / self.simulated;
-        let trend = if p < 0.9 * linear {
-            format!(", projected along its quickening pace; at its average pace {}", human_seconds(linear))
-        } else {
-            String::new()
-        };
+        let mut trend = String::new();
+        if self.since.0 > 0.0 {
+            trend =
+                format!(", projected from its pace since it changed to {} at t = {:.4} s", self.since.1, self.since.0);
+        }
+        if p < 0.9 * linear {
+            let along = if trend.is_empty() { ", projected along" } else { " and along" };
+            trend += &format!("{along} its quickening pace; at its average pace {}", human_seconds(linear));
+        }
         format!(
             "{shown} on this machine (a {:.1}-s trial reached t = {:.4} s of {} s{trend}; steps change as it deploys)",
             self.wall, self.simulated, self.duration
@@ -136,22 +220,28 @@ pub fn estimate(model: &Model, initial: &InitialConditions, settings: &RunSettin
     };
     let mut last_t = 0.0;
     let mut trend = Trend::default();
+    let mut phase = Phase::new(model, matches!(settings.integrator, super::settings::Integrator::Auto { .. }), budget);
     let mut progress = |p: &super::Progress<'_, '_>| {
         last_t = p.t;
-        trend.add(started.elapsed().as_secs_f64(), p.t, Some(p.steps));
-        if started.elapsed() > budget { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        let wall = started.elapsed().as_secs_f64();
+        if phase.changed(p.method, p.step, wall) {
+            trend.restart();
+        }
+        trend.add(wall, p.t, Some(p.steps));
+        if phase.seen(wall) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
     };
     let result = simulate(model, initial, settings, &mut sink, Some(&mut progress));
+    let since = (trend.since(), phase.method.unwrap_or(""));
     let wall = started.elapsed().as_secs_f64();
     let simulated = last_t.max(reached);
     let duration = settings.duration;
     let trend = trend.projected(duration);
     match result {
-        Ok(_) => Estimate { simulated: duration, wall, duration, complete: true, failed: false, trend: wall },
+        Ok(_) => Estimate { simulated: duration, wall, duration, complete: true, failed: false, trend: wall, since },
         Err(super::SimError::Interrupted { t }) => {
-            Estimate { simulated: t.max(simulated), wall, duration, complete: false, failed: false, trend }
+            Estimate { simulated: t.max(simulated), wall, duration, complete: false, failed: false, trend, since }
         }
-        Err(_) => Estimate { simulated, wall, duration, complete: false, failed: true, trend },
+        Err(_) => Estimate { simulated, wall, duration, complete: false, failed: true, trend, since },
     }
 }
 
@@ -199,5 +289,39 @@ mod tests {
         let mut nothing = Trend::default();
         nothing.add(1.0, 0.0, Some(0));
         assert!(nothing.projected(1.0).is_infinite());
+    }
+
+    /// A run whose method changes (`auto` leaving a stiffness-held DOP853 after 3 s of wall
+    /// time at t = 0.001 s, then steady at 1 simulated s per 10 s of wall in as many steps)
+    /// is projected from its pace since the change: the 3 s spent plus 10 s per simulated
+    /// second left, exactly; from the start the projection was 3,000 times too long. The
+    /// phase waits for the change (to four times its wait) only while DOP853 is held.
+    #[test]
+    fn a_change_of_method_restarts_the_trend() {
+        let mut trend = Trend::default();
+        let auto = Phase { auto_rate: Some(1e4), after: 2.0, method: None, held: false, changes: 0, started: 0.0 };
+        let mut phase = auto.clone();
+        for i in 1..=300 {
+            let w = 0.01 * i as f64;
+            assert!(!phase.changed("dop853", 1e-4, w), "no change yet");
+            trend.add(w, 1e-3 * w / 3.0, Some(i));
+            assert!(!phase.seen(w), "held DOP853 is not seen until it changes or 8 s have passed");
+        }
+        assert!(trend.projected(10.0) > 1e4);
+        for i in 1..=300 {
+            let w = 3.0 + 0.01 * i as f64;
+            if phase.changed("sdirk4", 1e-3, w) {
+                trend.restart();
+            }
+            trend.add(w, 1e-3 + 0.1 * (w - 3.0), Some(300 + i));
+            assert_eq!(phase.seen(w), w >= 5.01 - 1e-9, "seen 2 s after the change (at 3.01 s), at {w}");
+        }
+        let expected = 3.0 + 10.0 * (10.0 - 1e-3);
+        assert!((trend.projected(10.0) - expected).abs() < 1e-9 * expected, "{} vs {expected}", trend.projected(10.0));
+        assert_eq!(trend.since(), 1e-3);
+        // DOP853 not held (its steps well inside its stability): seen after the wait alone.
+        let mut free = auto;
+        free.changed("dop853", 1e-6, 1.0);
+        assert!(!free.seen(1.9) && free.seen(2.0));
     }
 }

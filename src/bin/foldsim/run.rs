@@ -109,10 +109,16 @@ pub(crate) fn run(
         );
         bar
     });
-    let mut watch = crate::watch::Watch::new("foldsim run", quiet);
+    let auto = matches!(settings.integrator, foldsim::simulate::settings::Integrator::Auto { .. });
+    let phase = foldsim::simulate::estimate::Phase::new(
+        &scenario.model,
+        auto,
+        std::time::Duration::from_secs_f64(crate::watch::NOTE_AFTER),
+    );
+    let mut watch = crate::watch::Watch::new("foldsim run", quiet, Some(phase));
     let mut tick = |p: &foldsim::simulate::Progress<'_, '_>| {
         let t = p.t;
-        watch.tick(t, duration, "s", Some(p.steps), || {
+        watch.tick(t, duration, "s", Some((p.steps, p.step, p.method)), || {
             // Before its first step a run has no step size to show (a large model with
             // contact can take seconds over it).
             let steps = if p.step > 0.0 {

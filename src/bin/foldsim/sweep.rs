@@ -64,7 +64,7 @@ pub(crate) fn sweep(
     let started = std::time::Instant::now();
     let mut failed = 0usize;
     let mut first_error: Option<String> = None;
-    let mut watch = crate::watch::Watch::new("foldsim sweep", quiet);
+    let mut watch = crate::watch::Watch::new("foldsim sweep", quiet, None);
     let mut done = 0usize;
     let result = sweep.run(0..total, workers, &stop, &mut |row| {
         done += 1;

@@ -3,9 +3,11 @@
 //! not a terminal (scripts, notebooks, CI), and, once, after [`NOTE_AFTER`] of wall time, a
 //! note when the whole run is projected to take more than [`LONG`] (even under `--quiet`: a
 //! run of hours should never start in silence). Projections follow the run's trend
-//! (`foldsim::simulate::estimate::Trend`): a deployment from a packed start speeds up.
+//! (`foldsim::simulate::estimate::Trend`): a deployment from a packed start speeds up, and
+//! under `auto` a stiff model's first DOP853 steps are no guide to the SDIRK4 that follows
+//! (the note waits for the switch: `estimate::Phase`).
 
-use foldsim::simulate::estimate::{Trend, human_seconds};
+use foldsim::simulate::estimate::{Phase, Trend, human_seconds};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -36,11 +38,14 @@ pub(crate) struct Watch {
     every: Duration,
     warned: bool,
     trend: Trend,
+    /// A run's method and when it changed (`None` for a sweep).
+    phase: Option<Phase>,
 }
 
 impl Watch {
-    /// A watch of `what` (`foldsim run`); lines off a terminal unless `quiet`.
-    pub(crate) fn new(what: &'static str, quiet: bool) -> Self {
+    /// A watch of `what` (`foldsim run`); lines off a terminal unless `quiet`; `phase` for a
+    /// run (its note comes once its pace in the method in use has been seen).
+    pub(crate) fn new(what: &'static str, quiet: bool, phase: Option<Phase>) -> Self {
         let now = Instant::now();
         let lines = !quiet && !std::io::stderr().is_terminal();
         Self {
@@ -51,25 +56,32 @@ impl Watch {
             every: report_every(),
             warned: false,
             trend: Trend::default(),
+            phase,
         }
     }
 
     /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`), in
-    /// `steps` accepted steps (a run's; `None` for runs of a sweep);
-    /// `hint` says, when asked (once, for a long run), what holds it back and what would
-    /// shorten it.
+    /// `steps` accepted steps with the last `step` (s) taken by `method` (a run's; `None` for
+    /// runs of a sweep); `hint` says, when asked (once, for a long run), what holds it back
+    /// and what would shorten it.
     pub(crate) fn tick(
         &mut self,
         done: f64,
         total: f64,
         unit: &str,
-        steps: Option<usize>,
+        steps: Option<(usize, f64, &'static str)>,
         hint: impl FnOnce() -> String,
     ) {
         let wall = self.started.elapsed().as_secs_f64();
-        self.trend.add(wall, done, steps);
+        if let (Some(phase), Some((_, step, method))) = (self.phase.as_mut(), steps)
+            && phase.changed(method, step, wall)
+        {
+            self.trend.restart();
+        }
+        self.trend.add(wall, done, steps.map(|s| s.0));
         let left = self.trend.projected(total) - wall;
-        if !self.warned && wall >= NOTE_AFTER {
+        let seen = self.phase.as_ref().map_or(wall >= NOTE_AFTER, |p| wall >= NOTE_AFTER && p.seen(wall));
+        if !self.warned && seen {
             self.warned = true;
             if wall + left > LONG {
                 let projected =

@@ -279,7 +279,7 @@ impl Proximity {
 
     /// At an accepted state `frames`: if every body has moved less than [`REBUILD`] skins
     /// since the build, brings the samples' gaps up to date for every side of a pair whose
-    /// bound lets some of its samples be probed ([`NearSide::rereference`]), so that the
+    /// bound lets some of its samples be probed (`NearSide::rereference`), so that the
     /// right-hand sides of the steps that follow probe only the samples that can reach the
     /// other body within them (a sample's gap at any reference, less its motion since,
     /// bounds its distance; which samples are in the list stays the build's), and returns

@@ -58,6 +58,13 @@ impl Dynamics<'_> {
         out[own]
     }
 
+    /// Whether law event `index` only keeps a table's bookkeeping
+    /// ([`crate::law::HingeLaw::bookkeeping_event`]).
+    pub fn bookkeeping_event(&self, index: usize) -> bool {
+        let (i, own) = self.event_owner(index);
+        self.model.hinges[i].law.bookkeeping_event(own)
+    }
+
     /// Applies event function `index`'s change at state `y`, time `t`.
     pub fn apply_event(&self, index: usize, t: f64, y: &[f64]) -> LawEvent {
         let (i, own) = self.event_owner(index);

@@ -493,6 +493,15 @@ impl HingeLaw for DirectionalLaw {
         }
     }
 
+    fn bookkeeping_event(&self, k: usize) -> bool {
+        let (i, slot) = (k / SLOTS, k % SLOTS);
+        match (&self.directions[i].response, slot) {
+            (Response::Table(_) | Response::Table2(_), 0 | 1) => true,
+            (Response::Table2(_) | Response::TapeSpring(_), 3 | 4) => true,
+            _ => false,
+        }
+    }
+
     fn apply_event(&self, k: usize, state: &HingeState, memory: &mut LawMemory) -> (EventKind, String) {
         let (q, _, _) = self.coordinates(state);
         let (i, slot) = (k / SLOTS, k % SLOTS);

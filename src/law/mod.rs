@@ -190,6 +190,13 @@ pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
     /// current memory holds and crosses below zero when it must change.
     fn event_values(&self, _state: &HingeState, _memory: &LawMemory, _out: &mut [f64]) {}
 
+    /// Whether event `k` only keeps bookkeeping that does not change the response (a table's
+    /// piece: the force is continuous across its points), which [`HingeLaw::sync_memory`]
+    /// also brings up to date: the run may then step across it without landing on it.
+    fn bookkeeping_event(&self, _k: usize) -> bool {
+        false
+    }
+
     /// Applies event `k`, just crossed at `state`, to the memory; says what happened.
     fn apply_event(&self, _k: usize, _state: &HingeState, _memory: &mut LawMemory) -> (EventKind, String) {
         (EventKind::Branch, String::new())

@@ -105,6 +105,7 @@ pub(super) fn prepare<'m>(
         branch_events: 0,
         lock_engagements: Vec::new(),
         same_instant: (f64::NAN, 0),
+        resync_events: false,
         pending: None,
         // The implicit method conserves momentum only to its tolerance, and the projection
         // of locked directions moves positions; a rigid-body velocity correction holds the

@@ -47,6 +47,9 @@ pub(super) struct RunState {
     pub(super) lock_engagements: Vec<(crate::dynamics::locks::Lock, f64)>,
     /// Time of the last event and how many events happened at exactly that time.
     pub(super) same_instant: (f64, usize),
+    /// Whether the step being handled went across a table's point without its event (see
+    /// `Tracked::on_step`): the event functions are then taken afresh at its end.
+    pub(super) resync_events: bool,
     /// An event located inside the last step, which the integrator is retaking to end there.
     pub(super) pending: Option<(usize, f64)>,
     /// Initial momenta, restored after every step (the implicit path) or after every drift
@@ -421,6 +424,20 @@ impl StreamOut<'_, '_, '_, '_> {
             // The retaken step ends at the located root (to round-off): the event happens here.
             Some((k, t)) if (step.t - t).abs() <= tiny => Some(k),
             _ => match self.locate_event(step) {
+                // A table's point crossed at the step's start right after events at that very
+                // instant (the coordinate turns on the point, and its two crossings would
+                // alternate there without end): the step goes across it, and the piece is
+                // brought up to date at the accepted state (`HingeLaw::sync_memory`; the force
+                // is continuous across the point).
+                Some((k, t))
+                    if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0)
+                        && self.s.same_instant == (step.t_prev, self.s.same_instant.1)
+                        && self.s.same_instant.1 >= 2
+                        && self.dynamics.bookkeeping_event(k) =>
+                {
+                    self.s.resync_events = true;
+                    None
+                }
                 // At the very start of the step (a round-off past the previous step's end):
                 // apply it there rather than take a step too short for the integrator.
                 Some((k, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
@@ -479,6 +496,14 @@ impl StreamOut<'_, '_, '_, '_> {
         std::mem::swap(&mut self.s.g_prev, &mut self.s.g_end);
         if step.t == step.t_prev {
             self.dynamics.event_values(step.y, &mut self.s.g_prev);
+        }
+        if std::mem::take(&mut self.s.resync_events) {
+            // After a step across a table's point: at the piece the accepted state synced to
+            // (a value a round-off below zero counts as zero, as after an event).
+            self.dynamics.event_values(step.y, &mut self.s.g_prev);
+            for g in &mut self.s.g_prev {
+                *g = g.max(0.0);
+            }
         }
         self.s.t_reached = step.t;
         self.report_progress(step)?;

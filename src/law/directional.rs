@@ -495,11 +495,10 @@ impl HingeLaw for DirectionalLaw {
 
     fn bookkeeping_event(&self, k: usize) -> bool {
         let (i, slot) = (k / SLOTS, k % SLOTS);
-        match (&self.directions[i].response, slot) {
-            (Response::Table(_) | Response::Table2(_), 0 | 1) => true,
-            (Response::Table2(_) | Response::TapeSpring(_), 3 | 4) => true,
-            _ => false,
-        }
+        matches!(
+            (&self.directions[i].response, slot),
+            (Response::Table(_) | Response::Table2(_), 0 | 1) | (Response::Table2(_) | Response::TapeSpring(_), 3 | 4)
+        )
     }
 
     fn apply_event(&self, k: usize, state: &HingeState, memory: &mut LawMemory) -> (EventKind, String) {

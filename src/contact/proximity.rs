@@ -40,9 +40,6 @@ const SLACK: f64 = 1e-9;
 /// (4.5 s against 5.2 s), 0.25 as many as 0.35 at more builds.
 pub const REBUILD: f64 = 0.35;
 
-/// The least reach of a side's candidates ([`NearSide`]), in skins.
-const CANDIDATES: f64 = 1e-3;
-
 impl ContactSet {
     /// As [`ContactSet::evaluate`], probing only the samples `near` says may touch (the same
     /// points in the same order, found faster; every pair when the bodies have moved beyond
@@ -74,7 +71,7 @@ impl ContactSet {
                 if side.gap >= shift + chord * side.reach + SLACK {
                     continue;
                 }
-                for s in side.looked_at(shift + chord * side.reach) {
+                for s in &side.samples {
                     if s.gap < shift + chord * s.reach + SLACK {
                         let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
                         let impact = || (!s.impact.is_nan()).then_some(s.impact);
@@ -119,47 +116,16 @@ pub struct NearSide {
     pub reach: f64,
     /// At the reference: the body's attitude in the other's frame and its origin there (m).
     reference: (Mat3, Vec3),
-    /// The samples (their places in `samples`, ascending) whose gaps are below `within`:
-    /// while the side's motion bound stays below it, only they can be probed.
-    candidates: Vec<u32>,
-    /// See `candidates`, m.
-    within: f64,
     /// The places in `samples` whose `impact` is set (not NaN).
     remembered: Vec<u32>,
 }
 
 impl NearSide {
     /// `samples` of the body at `fa` against the body at `fb`.
-    fn new(samples: Vec<NearSample>, fa: &Frame, fb: &Frame, within: f64) -> Self {
+    fn new(samples: Vec<NearSample>, fa: &Frame, fb: &Frame) -> Self {
         let gap = samples.iter().map(|s| s.gap).fold(f64::INFINITY, f64::min);
         let reach = samples.iter().map(|s| s.reach).fold(0.0, f64::max);
-        let mut side = Self {
-            samples,
-            gap,
-            reach,
-            reference: fa.in_frame_of(fb),
-            candidates: Vec::new(),
-            within,
-            remembered: Vec::new(),
-        };
-        side.choose_candidates(within);
-        side
-    }
-
-    /// Takes the samples with gaps below `within` (m) as the candidates.
-    fn choose_candidates(&mut self, within: f64) {
-        self.within = within;
-        self.candidates.clear();
-        self.candidates.extend(self.samples.iter().enumerate().filter(|(_, s)| s.gap < within).map(|(i, _)| i as u32));
-    }
-
-    /// The samples to look at when the side's motion bound is `bound` (m): the candidates
-    /// while it is below their reach, else all.
-    fn looked_at(&self, bound: f64) -> impl Iterator<Item = &NearSample> {
-        let few = bound + SLACK <= self.within;
-        let all = if few { 0..0 } else { 0..self.samples.len() };
-        let some = if few { &self.candidates[..] } else { &[][..] };
-        some.iter().map(|&i| &self.samples[i as usize]).chain(self.samples[all].iter())
+        Self { samples, gap, reach, reference: fa.in_frame_of(fb), remembered: Vec::new() }
     }
 
     /// How far the body has moved in the other's frame since the reference, given its
@@ -188,23 +154,19 @@ pub struct NearPair {
 
 impl NearSide {
     /// Takes the pose `(dcm_b_a, r_ab)` of the body in the other's frame as the side's new
-    /// reference (`solid` the other body's, `samples` the body's own). A sample's gap is
-    /// measured again there if it may come near soon; one farther than `FAR` times its
-    /// motion since the old reference keeps its old gap less that motion, a lower bound of
-    /// its distance now (the distance is 1-Lipschitz), to be measured when it comes nearer.
+    /// reference, the side having moved `(shift, chord)` since the old one ([`Self::motion`];
+    /// `solid` the other body's, `samples` the body's own). A sample's gap is measured again
+    /// there if it may come near soon; one farther than `FAR` times its motion since the old
+    /// reference keeps its old gap less that motion, a lower bound of its distance now (the
+    /// distance is 1-Lipschitz), to be measured when it comes nearer.
     fn rereference(
         &mut self,
         samples: &[super::solid::Sample],
         solid: &super::solid::Solid,
-        dcm_b_a: &Mat3,
-        r_ab: &Vec3,
-        floor: f64,
+        (dcm_b_a, r_ab): (&Mat3, &Vec3),
+        (shift, chord): (f64, f64),
     ) {
         const FAR: f64 = 4.0;
-        let (shift, chord) = self.motion(dcm_b_a, r_ab);
-        // The next steps' motion is taken to be like this one's: the candidates are the
-        // samples within a few of its bounds (if it grows beyond, every sample is looked at).
-        let within = (FAR * (shift + chord * self.reach)).max(floor);
         let mut least = f64::INFINITY;
         for s in &mut self.samples {
             let moved = shift + chord * s.reach;
@@ -221,7 +183,6 @@ impl NearSide {
         }
         self.gap = least;
         self.reference = (*dcm_b_a, *r_ab);
-        self.choose_candidates(within);
     }
 }
 
@@ -267,8 +228,8 @@ impl Proximity {
         let mut pairs = Vec::new();
         for (a, b) in set.candidate_pairs(frames, 0.5 * skin) {
             let (fa, fb) = (&frames[a], &frames[b]);
-            let a_in_b = NearSide::new(set.near_samples(a, b, frames, skin), fa, fb, CANDIDATES * skin);
-            let b_in_a = NearSide::new(set.near_samples(b, a, frames, skin), fb, fa, CANDIDATES * skin);
+            let a_in_b = NearSide::new(set.near_samples(a, b, frames, skin), fa, fb);
+            let b_in_a = NearSide::new(set.near_samples(b, a, frames, skin), fb, fa);
             if a_in_b.samples.is_empty() && b_in_a.samples.is_empty() {
                 continue;
             }
@@ -304,7 +265,7 @@ impl Proximity {
                 if side.gap >= shift + chord * side.reach + SLACK {
                     continue;
                 }
-                side.rereference(&sa.samples, sb, &dcm_b_a, &r_ab, CANDIDATES * self.skin);
+                side.rereference(&sa.samples, sb, (&dcm_b_a, &r_ab), (shift, chord));
             }
         }
         true
@@ -313,10 +274,11 @@ impl Proximity {
     /// Copies the contact memory's impact speeds into the list's samples (NaN for a sample
     /// not in it): after every change of the memory, before the next probe.
     ///
-    /// A point in contact at an accepted state is a candidate of its side there (the list
-    /// was built there, or the side brought up to date there, its gap ≤ 0): only the
-    /// candidates are looked up, unless some of the memory's points were not found so (then
-    /// every sample is).
+    /// A point in contact at an accepted state has a gap ≤ 0 in the list there (the list was
+    /// built there, or its side brought up to date there: a side not brought up to date has
+    /// nothing in contact, and a gap kept as a lower bound is positive): only those samples
+    /// are looked up, unless some of the memory's points were not found so (then every
+    /// sample is).
     pub fn remember(&mut self, memory: &ContactMemory) {
         let mut found = 0;
         for pair in &mut self.pairs {
@@ -325,12 +287,11 @@ impl Proximity {
                     side.samples[i as usize].impact = f64::NAN;
                 }
                 side.remembered.clear();
-                for &i in &side.candidates {
-                    let s = &mut side.samples[i as usize];
+                for (i, s) in side.samples.iter_mut().enumerate().filter(|(_, s)| s.gap <= SLACK) {
                     let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
                     if let Some(&v) = memory.get(&key) {
                         s.impact = v;
-                        side.remembered.push(i);
+                        side.remembered.push(i as u32);
                         found += 1;
                     }
                 }

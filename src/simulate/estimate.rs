@@ -109,8 +109,7 @@ impl Trend {
 /// changes or four times `after` have passed.
 #[derive(Clone, Debug)]
 pub struct Phase {
-    /// Under `auto`: the fastest hinge's rate, 1/s (a step longer than 0.3 over it is held
-    /// by stability, as `Progress::pace` says).
+    /// Under `auto`: the fastest hinge's rate, 1/s (see `pace::held_by_stiffness`).
     auto_rate: Option<f64>,
     after: f64,
     method: Option<&'static str>,
@@ -138,7 +137,7 @@ impl Phase {
         if let Some(rate) = self.auto_rate
             && step > 0.0
         {
-            self.held = method == "dop853" && step * rate > 0.3;
+            self.held = method == "dop853" && super::pace::held_by_stiffness(step, rate);
         }
         changed
     }

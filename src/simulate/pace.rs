@@ -32,7 +32,7 @@ impl Progress<'_, '_> {
         let explicit = matches!(self.method, "dop853" | "dopri5" | "rk4");
         // An explicit method's stability boundary is a few units of h·|λ| (DOP853's test
         // takes 6.1); steps within a factor of ~10 of it are held by the fastest vibration.
-        if explicit && let Some(r) = fastest.filter(|r| self.step * r.rate > 0.3) {
+        if explicit && let Some(r) = fastest.filter(|r| held_by_stiffness(self.step, r.rate)) {
             return format!(
                 "stiffness: {} holds the explicit steps ({:.2e} s) near its period; integrator = \"auto\" or \"sdirk4\" steps over it, or make that hinge softer or its bodies heavier",
                 r.describe(model),
@@ -70,6 +70,12 @@ impl Progress<'_, '_> {
             self.step
         )
     }
+}
+
+/// Whether an explicit method's step `step` (s) is held near its stability bound by a
+/// vibration of rate `rate` (1/s): within a factor of ~10 of DOP853's h·|λ| = 6.1.
+pub fn held_by_stiffness(step: f64, rate: f64) -> bool {
+    step * rate > 0.3
 }
 
 /// Seconds as a person reads them: `9 s`, `4.2 min`, `3.1 h`.

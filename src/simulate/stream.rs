@@ -431,7 +431,7 @@ impl StreamOut<'_, '_, '_, '_> {
                 // is continuous across the point).
                 Some((k, t))
                     if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0)
-                        && self.s.same_instant == (step.t_prev, self.s.same_instant.1)
+                        && self.s.same_instant.0 == step.t_prev
                         && self.s.same_instant.1 >= 2
                         && self.dynamics.bookkeeping_event(k) =>
                 {

@@ -2,6 +2,7 @@
 //! input has one) and the key or name, and saying what would be valid; never a panic.
 
 use foldsim::scenario::Scenario;
+use foldsim::simulate::Integrator;
 
 const GOOD: &str = r#"
 [run]
@@ -197,11 +198,14 @@ fn bad_times() {
     );
     expect_error(|t| t.replace("rtol = 1e-9", "rtol = -1e-9"), Some("rtol"), &["run.rtol"]);
     expect_error(|t| t.replace("rtol = 1e-9\n", ""), Some("[run]"), &["run.rtol"]);
-    // Generalized-α: a step is needed, ρ∞ is a spectral radius, and only it takes one.
+    // Generalized-α: without a step it is adaptive and needs its tolerances; ρ∞ is a
+    // spectral radius, and only it takes one.
     let ga = |extra: &'static str| {
         move |t: &str| t.replace("integrator = \"dop853\"", &format!("integrator = \"generalized-alpha\"\n{extra}"))
     };
-    expect_error(ga(""), Some("[run]"), &["run.step", "generalized-alpha"]);
+    let adaptive = Scenario::from_toml(&ga("")(GOOD), "good.toml").unwrap();
+    assert!(matches!(adaptive.settings.integrator, Integrator::GeneralizedAlpha { step: None, .. }));
+    expect_error(|t| ga("")(t).replace("rtol = 1e-9\n", ""), Some("[run]"), &["run.rtol", "generalized-alpha", "error"]);
     expect_error(ga("step = 0.01\nrho_inf = 1.5"), Some("rho_inf = 1.5"), &["run.rho_inf", "0", "1"]);
     expect_error(
         |t| t.replace("integrator = \"dop853\"", "integrator = \"dop853\"\nrho_inf = 0.9"),

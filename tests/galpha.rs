@@ -11,7 +11,7 @@ use foldsim::simulate::Integrator;
 /// `load()` under generalized-α at `step` with ρ∞ `rho_inf`, Newton to 1e-10.
 fn under_generalized_alpha(load: impl Fn() -> Scenario, step: f64, rho_inf: f64) -> Scenario {
     let mut s = load();
-    s.settings.integrator = Integrator::GeneralizedAlpha { step, rho_inf, rtol: 1e-10, atol: 1e-10 };
+    s.settings.integrator = Integrator::GeneralizedAlpha { step: Some(step), rho_inf, rtol: 1e-10, atol: 1e-10 };
     s
 }
 
@@ -74,7 +74,7 @@ fn generalized_alpha_follows_a_stiff_grid_at_steps_over_its_vibrations() {
 #[test]
 fn a_fixed_step_gets_the_steps_it_asks_for() {
     for integrator in [
-        Integrator::GeneralizedAlpha { step: 1e-6, rho_inf: 0.9, rtol: 1e-8, atol: 1e-8 },
+        Integrator::GeneralizedAlpha { step: Some(1e-6), rho_inf: 0.9, rtol: 1e-8, atol: 1e-8 },
         Integrator::Rk4 { step: 1e-6 },
     ] {
         let mut s = scenario("examples/paper-3panel.toml");

@@ -24,7 +24,7 @@
 //! `hγ (α_f/α_m)` in place of its `hγ`.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end};
+use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, norm};
 
 /// The method's three parameters from ρ∞ (Jansen, Whiting & Hulbert, eq. 21).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,20 +47,61 @@ impl AlphaParameters {
     }
 }
 
+/// ρ∞ of `integrator = "generalized-alpha"` (and of `auto`'s implicit spans) when
+/// `run.rho_inf` is not given: Exudyn's default, a tenth of an unresolved vibration's
+/// amplitude lost per step.
+pub const DEFAULT_RHO_INF: f64 = 0.9;
+
+/// How the steps are chosen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaSteps {
+    /// At a fixed step (s), cut only to land on the end or a break, or halved when Newton
+    /// fails; the user chooses the accuracy by the step.
+    Fixed(f64),
+    /// Adaptive: each step's local error estimated
+    /// ([`AlphaParameters::local_error_constant`]) and held to the run's rtol and atol in
+    /// the given norm.
+    Adaptive(ErrorNorm),
+}
+
+impl AlphaParameters {
+    /// The constant C of the method's local error `C h³ y'''`: at a steady step the
+    /// method's derivative ẏₙ is `y'(tₙ + a h) + b h² y'''` with `a = α_f − α_m` and
+    /// `b = α_m² − α_m` (put that form into the second line of the scheme above), and the
+    /// first line then gives `C = (a² + 2aγ + γ + b − 1/3) / 2`: −1/24 at ρ∞ = 1 (the
+    /// midpoint rule's), −0.0406 at ρ∞ = 0.9.
+    pub fn local_error_constant(&self) -> f64 {
+        let a = self.alpha_f - self.alpha_m;
+        let b = self.alpha_m * self.alpha_m - self.alpha_m;
+        0.5 * (a * a + 2.0 * a * self.gamma + self.gamma + b - 1.0 / 3.0)
+    }
+}
+
 /// Newton stops when its increment is below this fraction of the tolerances (scaled norm).
 const KAPPA: f64 = 0.01;
 /// Iterations before Newton gives up on a step (then a fresh Jacobian, then half the step).
 const MAX_ITERATIONS: usize = 10;
 
-/// Integrates `system` from `t0` to `tf` with the generalized-α method at steps of `step`,
-/// calling `on_step` after every step with a cubic Hermite dense output (as
-/// [`super::integrate`]). Newton converges to `rtol`, `atol` in the root-mean-square norm
-/// of every component.
+/// Integrates `system` from `t0` to `tf` with the generalized-α method, at fixed steps or
+/// adaptive ones ([`AlphaSteps`]), calling `on_step` after every step with a cubic Hermite
+/// dense output (as [`super::integrate`]). Newton converges to `rtol`, `atol` in the
+/// root-mean-square norm of every component (fixed steps) or in the error norm (adaptive).
+///
+/// The adaptive steps' error estimate is Milne's device: the predictor (ẏₙ₊₁ extrapolated
+/// linearly from ẏₙ₋₁ and ẏₙ) and the corrector are both second order, and their
+/// difference `hγ (ẏₙ₊₁ − ẏ_pred)` is `γ h² (h + h₋₁)/2 · y'''` to leading order, so the
+/// local error `C h³ y'''` is `(C/γ) (2h/(h + h₋₁))` times it. Where there is no history
+/// (the first step, and after an event restarted the method) the error is `C h³ y'''` with
+/// y''' from the cubic through `(yₙ, ẏₙ)` and `(yₙ₊₁, f(yₙ₊₁))`, at one more right-hand
+/// side. Either estimate is filtered through `W⁻¹` as SDIRK4's is (Hairer & Wanner's
+/// remedy for vibrations beyond the step, which the method damps rather than follows), and
+/// the step changes by `0.9 e^(−1/3)` within [0.2, 4], kept for changes within [1, 1.2]
+/// (the factorization then serves).
 #[allow(clippy::too_many_arguments)]
 pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     system: &S,
     newton: &mut dyn NewtonMatrix,
-    step: f64,
+    steps: AlphaSteps,
     rho_inf: f64,
     rtol: f64,
     atol: f64,
@@ -70,8 +111,20 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     y0: &[f64],
     mut on_step: impl FnMut(&Step<'_>) -> Result<Control, E>,
 ) -> Result<Stats, OdeError<E>> {
-    let AlphaParameters { alpha_m, alpha_f, gamma } = AlphaParameters::from_rho_inf(rho_inf);
+    let params = AlphaParameters::from_rho_inf(rho_inf);
+    let AlphaParameters { alpha_m, alpha_f, gamma } = params;
+    let c_err = params.local_error_constant();
     let n = y0.len();
+    let mut rates = vec![false; n];
+    let fixed = match steps {
+        AlphaSteps::Fixed(h) => Some(h),
+        AlphaSteps::Adaptive(kind) => {
+            if kind == ErrorNorm::Displacement {
+                system.mark_rates(&mut rates);
+            }
+            None
+        }
+    };
     let mut stats = Stats::default();
     let mut y = y0.to_vec();
     let mut t = t0;
@@ -80,9 +133,12 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     system.rhs(t, &y, &mut yd);
     stats.rhs_evaluations += 1;
     let mut yd_prev = yd.clone();
+    // Whether ẏₙ₋₁ is the method's own (the predictor is then second order).
+    let mut history = false;
     announce_start(t0, &y, &mut on_step)?;
     let newton_h = |h: f64| h * gamma * alpha_f / alpha_m;
-    let mut h = limits.first_step.unwrap_or(step).min(step).min(tf - t0);
+    let start = fixed.unwrap_or((1e-3 * (tf - t0)).min(1e-2));
+    let mut h = limits.first_step.unwrap_or(start).min(fixed.unwrap_or(f64::INFINITY)).min(tf - t0);
     stats.jacobians += 1;
     if !newton.prepare(t, &y, &yd, newton_h(h)) {
         return Err(OdeError::SingularNewton { t, h });
@@ -91,8 +147,10 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let mut fresh_jacobian = true;
     let (mut delta, mut y_new, mut y_alpha, mut f_alpha, mut yd_new, mut r) =
         (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut predicted, mut err) = (vec![0.0; n], vec![0.0; n]);
     let mut cont = vec![vec![0.0; n]; 4];
-    let mut forced = false;
+    let (mut forced, mut non_finite, mut after_rejection) = (false, false, false);
+    let mut short_steps = 0;
     let mut h_prev = h;
     loop {
         let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
@@ -101,7 +159,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             h = stop - t;
         }
         if h.abs() <= 10.0 * f64::EPSILON * t.abs().max(1.0) || (!landing && !forced && h.abs() < limits.min_step) {
-            return Err(OdeError::StepTooSmall { t, h, non_finite: false, y: y.to_vec() });
+            return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });
         }
         if stats.accepted + stats.rejected >= limits.max_steps {
             return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
@@ -111,11 +169,12 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         }
         prepared_h = h;
         // Predictor: ẏₙ₊₁ from the last two derivatives, extrapolated linearly.
-        let ratio = h / h_prev;
+        let ratio = if history { h / h_prev } else { 0.0 };
         for k in 0..n {
             let yd_guess = yd[k] + ratio * (yd[k] - yd_prev[k]);
             delta[k] = h * yd[k] + h * gamma * (yd_guess - yd[k]);
         }
+        predicted.copy_from_slice(&delta);
         let c_m = alpha_m / (h * gamma);
         let mut converged = false;
         let mut iterations = 0;
@@ -133,14 +192,13 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 r[k] = -(yd[k] / c_m + (delta[k] - h * yd[k]) - f_alpha[k] / c_m);
             }
             newton.solve(&mut r);
-            let mut s = 0.0;
             for k in 0..n {
                 delta[k] += r[k];
-                let scale = atol + rtol * (y[k] + delta[k]).abs();
-                s += (r[k] / scale).powi(2);
+                y_new[k] = y[k] + delta[k];
             }
-            let d = (s / n.max(1) as f64).sqrt();
+            let d = norm(&r, &y_new, &rates, h, rtol, atol);
             if !d.is_finite() || d > 2.0 * previous {
+                non_finite = !d.is_finite();
                 break;
             }
             // Converged below KAPPA; or within the tolerance and no longer contracting (the
@@ -155,6 +213,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         if !converged {
             stats.rejected += 1;
             stats.newton_failures += 1;
+            after_rejection = true;
             if fresh_jacobian {
                 h *= 0.5;
                 forced = false;
@@ -172,11 +231,44 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             continue;
         }
         for k in 0..n {
-            y_new[k] = y[k] + delta[k];
             yd_new[k] = yd[k] + (delta[k] - h * yd[k]) / (h * gamma);
         }
+        let mut factor = 1.0;
+        if fixed.is_none() {
+            if history {
+                // Milne: (C/γ) (2h/(h + h₋₁)) (Δ − Δ_pred).
+                let scale = c_err / gamma * 2.0 * h / (h + h_prev);
+                for k in 0..n {
+                    err[k] = scale * (delta[k] - predicted[k]);
+                }
+            } else {
+                // C h³ y''' from the cubic through (yₙ, ẏₙ), (yₙ₊₁, f(yₙ₊₁)):
+                // h³ y''' = 6 (h (ẏₙ + f₁) − 2Δ).
+                system.rhs(t + h, &y_new, &mut f_alpha);
+                stats.rhs_evaluations += 1;
+                for k in 0..n {
+                    err[k] = 6.0 * c_err * (h * (yd[k] + f_alpha[k]) - 2.0 * delta[k]);
+                }
+            }
+            newton.solve(&mut err);
+            let e = norm(&err, &y_new, &rates, h, rtol, atol);
+            let e = if e.is_nan() { f64::INFINITY } else { e.max(1e-10) };
+            factor = (0.9 * e.powf(-1.0 / 3.0)).clamp(0.2, 4.0);
+            if e > 1.0 {
+                stats.rejected += 1;
+                after_rejection = true;
+                (forced, non_finite) = (false, !e.is_finite());
+                h *= factor.min(1.0);
+                continue;
+            }
+            if after_rejection {
+                // A step right after a rejection may not grow (as SDIRK4's).
+                factor = factor.min(1.0);
+            }
+        }
+        after_rejection = false;
         stats.accepted += 1;
-        forced = false;
+        (forced, non_finite) = (false, false);
         let t_prev = t;
         // Cubic Hermite between (yₙ, ẏₙ) and (yₙ₊₁, ẏₙ₊₁).
         for k in 0..n {
@@ -190,9 +282,16 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         y.copy_from_slice(&y_new);
         yd_prev.copy_from_slice(&yd);
         yd.copy_from_slice(&yd_new);
+        history = true;
         t = if landing { stop } else { t + h };
         h_prev = t - t_prev;
         stats.last_step = h_prev;
+        if let Some((count, below)) = limits.hand_back_below {
+            short_steps = if h_prev < below && !landing { short_steps + 1 } else { 0 };
+            if short_steps >= count && t < tf {
+                stats.stopped_at = Some(t);
+            }
+        }
         match on_step(&Step::hermite(t_prev, t, &y, &cont)).map_err(OdeError::Callback)? {
             Control::Continue => {}
             Control::Stop => {
@@ -207,6 +306,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 system.rhs(t, &y, &mut yd);
                 stats.rhs_evaluations += 1;
                 yd_prev.copy_from_slice(&yd);
+                history = false;
             }
             Control::Correct { y: yc } => {
                 // A small correction (the momenta restored, locks projected): the method's
@@ -223,17 +323,26 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 stats.accepted -= 1;
                 h = tt - t_prev;
                 forced = true;
+                // The derivative before ẏₙ is gone: the step taken again has no history.
+                history = false;
                 continue;
             }
         }
-        stats.next_step = step;
+        let next = fixed.unwrap_or(h_prev * factor);
+        stats.next_step = next;
         if t >= tf || stats.stopped_at.is_some() {
             stats.rhs_evaluations += newton.evaluations();
             return Ok(stats);
         }
-        // Back to the given step after a cut; a fresh Jacobian when Newton needed many
-        // iterations (the structure has moved on), else the old one serves.
-        h = step;
+        // Back to the given step after a cut (fixed steps); the step the error asks for,
+        // kept for small changes (adaptive).
+        match fixed {
+            Some(step) => h = step,
+            None if !(1.0..=1.2).contains(&factor) => h = next,
+            None => {}
+        }
+        // A fresh Jacobian when Newton needed many iterations (the structure has moved on),
+        // else the old one serves.
         fresh_jacobian = false;
         if iterations > 4 {
             fresh_jacobian = true;
@@ -281,7 +390,7 @@ mod tests {
         let stats = integrate_generalized_alpha(
             &sys,
             &mut newton,
-            h,
+            AlphaSteps::Fixed(h),
             rho_inf,
             1e-13,
             1e-13,

@@ -18,7 +18,7 @@ pub mod step;
 mod tableau;
 
 pub use explicit::integrate;
-pub use galpha::integrate_generalized_alpha;
+pub use galpha::{AlphaSteps, integrate_generalized_alpha};
 pub use newton::{DenseNewton, NewtonMatrix};
 pub use sdirk4::integrate_sdirk4;
 pub use step::{Control, ErrorNorm, Limits, Method, OdeError, OdeSystem, Stats, Step};

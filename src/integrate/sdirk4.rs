@@ -6,7 +6,7 @@
 //! formed and factored is separate from the method.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end};
+use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, norm};
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -19,21 +19,6 @@ const A: [[f64; 5]; 5] = [
 ];
 /// Embedded third-order weights.
 const B_HAT: [f64; 5] = [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 0.0];
-
-/// The root-mean-square of `v` scaled by the tolerances at `y`, the components marked in
-/// `rates` weighed by the step `h` ([`OdeSystem::mark_rates`]).
-fn norm(v: &[f64], y: &[f64], rates: &[bool], h: f64, rtol: f64, atol: f64) -> f64 {
-    let s: f64 = v
-        .iter()
-        .zip(y)
-        .zip(rates)
-        .map(|((e, yi), &rate)| {
-            let e = if rate { e * h } else { *e };
-            (e / (atol + rtol * yi.abs())).powi(2)
-        })
-        .sum();
-    (s / v.len().max(1) as f64).sqrt()
-}
 
 /// Integrates `system` from `t0` to `tf` with SDIRK4, calling `on_step` after every
 /// accepted step with a cubic Hermite dense output (as [`super::integrate`]).

@@ -236,6 +236,21 @@ pub enum ErrorNorm {
     State,
 }
 
+/// The root-mean-square of `v` scaled by the tolerances at `y`, the components marked in
+/// `rates` weighed by the step `h` ([`OdeSystem::mark_rates`]).
+pub(super) fn norm(v: &[f64], y: &[f64], rates: &[bool], h: f64, rtol: f64, atol: f64) -> f64 {
+    let s: f64 = v
+        .iter()
+        .zip(y)
+        .zip(rates)
+        .map(|((e, yi), &rate)| {
+            let e = if rate { e * h } else { *e };
+            (e / (atol + rtol * yi.abs())).powi(2)
+        })
+        .sum();
+    (s / v.len().max(1) as f64).sqrt()
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum DenseKind {
     Hermite,

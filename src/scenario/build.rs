@@ -127,8 +127,10 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     // always had, and so does "auto" with contact: impacts need their rates (restitution
     // acts on the impact velocity), and the thick flasher example under the displacement
     // norm projected 29 min against 39 s (docs/scenario.md says why both norms exist).
+    // Generalized-α without a step is adaptive, and weighs its error as "auto" does.
+    let adaptive_alpha = integrator_name == "generalized-alpha" && run.step.is_none();
     let error_norm = match run.error_norm.as_ref().map(|s| (s, s.get_ref().as_str())) {
-        None if integrator_name == "auto" && raw.contact.is_none() => ErrorNorm::Displacement,
+        None if (integrator_name == "auto" || adaptive_alpha) && raw.contact.is_none() => ErrorNorm::Displacement,
         None => ErrorNorm::State,
         Some((_, "displacement")) => ErrorNorm::Displacement,
         Some((_, "state")) => ErrorNorm::State,
@@ -139,10 +141,17 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             ));
         }
     };
-    if let (Some(x), "dop853" | "dopri5" | "rk4" | "generalized-alpha") = (&run.error_norm, integrator_name) {
+    if let (Some(x), "dop853" | "dopri5" | "rk4" | "generalized-alpha") = (&run.error_norm, integrator_name)
+        && !adaptive_alpha
+    {
+        let why = if integrator_name == "generalized-alpha" {
+            "at a fixed run.step it has no error control; leave run.step out for adaptive steps"
+        } else {
+            "its error control weighs every component as it is"
+        };
         return Err(ctx.span(
             x,
-            format!("'run.error_norm' applies to the implicit steps of integrator \"sdirk4\" or \"auto\", not to '{integrator_name}' (its error control weighs every component as it is)"),
+            format!("'run.error_norm' applies to the implicit steps of integrator \"sdirk4\", \"auto\" or an adaptive \"generalized-alpha\", not to '{integrator_name}' ({why})"),
         ));
     }
     let integrator = match integrator_name {
@@ -166,10 +175,15 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
             Integrator::Rk4 { step: fixed_step(ctx, run, duration, need(&run.step, "run.step", "fixed step in s")?)? }
         }
         "generalized-alpha" => {
-            let step = fixed_step(ctx, run, duration, need(&run.step, "run.step", "fixed step in s")?)?;
-            let rtol = need(&run.rtol, "run.rtol", "relative tolerance of the Newton iterations, e.g. 1e-8")?;
+            // With run.step a fixed step (rtol and atol are Newton's); without, adaptive.
+            let step = match &run.step {
+                Some(x) => Some(fixed_step(ctx, run, duration, positive(ctx, x, "run.step", "")?)?),
+                None => None,
+            };
+            let what = if step.is_some() { "of the Newton iterations" } else { "of each step's error" };
+            let rtol = need(&run.rtol, "run.rtol", &format!("relative tolerance {what}, e.g. 1e-6"))?;
             check_rtol(ctx, run, rtol)?;
-            let atol = need(&run.atol, "run.atol", "absolute tolerance of the Newton iterations, e.g. 1e-8")?;
+            let atol = need(&run.atol, "run.atol", &format!("absolute tolerance {what}, e.g. 1e-6"))?;
             let rho_inf = match &run.rho_inf {
                 None => DEFAULT_RHO_INF,
                 Some(x) if (0.0..=1.0).contains(x.get_ref()) => *x.get_ref(),
@@ -563,9 +577,7 @@ fn model_error(ctx: &Ctx<'_>, raw: &RawScenario, e: ModelError) -> ScenarioError
     ctx.at(span, e.message)
 }
 
-/// ρ∞ of `integrator = "generalized-alpha"` when `run.rho_inf` is not given: Exudyn's default,
-/// a tenth of an unresolved vibration's amplitude lost per step.
-pub const DEFAULT_RHO_INF: f64 = 0.9;
+pub use crate::integrate::galpha::DEFAULT_RHO_INF;
 
 /// `run.rtol` between 10 u (u the unit round-off) and 1: Hairer's codes refuse rtol ≤ 10 u
 /// (no step can be that accurate in f64, and the step size would shrink until the run

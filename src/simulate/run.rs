@@ -8,7 +8,7 @@ use super::stopped::stopped;
 use super::stream::{OutputTimes, RunState, StreamOut, Tracked};
 use crate::dynamics::Dynamics;
 use crate::dynamics::newton::GraphNewton;
-use crate::integrate::{Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
+use crate::integrate::{AlphaSteps, Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
 use crate::kinematics::{InitialConditions, initial_state};
 use crate::loads::breaks::Breaks;
 use crate::model::Model;
@@ -168,7 +168,7 @@ pub(super) fn integrate_span(
             let r = integrate_generalized_alpha(
                 dynamics,
                 &mut newton,
-                step,
+                step.map_or(AlphaSteps::Adaptive(settings.error_norm), AlphaSteps::Fixed),
                 rho_inf,
                 rtol,
                 atol,

@@ -37,16 +37,18 @@ pub enum Integrator {
         /// Absolute tolerance per component.
         atol: f64,
     },
-    /// Generalized-α (Jansen, Whiting & Hulbert 2000) at a fixed step: second order, one
-    /// implicit stage, high-frequency damping set by ρ∞ ([`crate::integrate::galpha`]).
+    /// Generalized-α (Jansen, Whiting & Hulbert 2000): second order, one implicit stage,
+    /// high-frequency damping set by ρ∞ ([`crate::integrate::galpha`]); at a fixed step, or
+    /// adaptive with its local error held to rtol and atol in the run's error norm.
     GeneralizedAlpha {
-        /// Step, s.
-        step: f64,
+        /// Fixed step, s; `None` for adaptive steps.
+        step: Option<f64>,
         /// Spectral radius at infinite frequency, in [0, 1] (1: no numerical damping).
         rho_inf: f64,
-        /// Relative tolerance of the Newton iterations per component.
+        /// Relative tolerance per component: of the Newton iterations at a fixed step, of
+        /// the local error (and the Newton iterations) with adaptive steps.
         rtol: f64,
-        /// Absolute tolerance of the Newton iterations per component.
+        /// Absolute tolerance per component, as `rtol`.
         atol: f64,
     },
     /// Classical fourth-order Runge–Kutta with a fixed step.
@@ -163,7 +165,7 @@ impl RunSettings {
         // A fixed step asks for duration / step steps: the budget leaves room for twice that
         // (cuts to land on breaks, halvings where Newton fails) whatever the hinges' rates.
         let fixed = match self.integrator {
-            Integrator::Rk4 { step } | Integrator::GeneralizedAlpha { step, .. } => 2.0 * self.duration / step,
+            Integrator::Rk4 { step } | Integrator::GeneralizedAlpha { step: Some(step), .. } => 2.0 * self.duration / step,
             _ => 0.0,
         };
         let max_steps = self.max_steps.unwrap_or_else(|| {

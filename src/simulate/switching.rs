@@ -17,7 +17,11 @@ use super::settings::RunSettings;
 use super::stopped::stopped;
 use super::stream::{StreamOut, Tracked};
 use crate::dynamics::newton::GraphNewton;
-use crate::integrate::{Limits, Method, Stats, integrate, integrate_sdirk4};
+use crate::integrate::galpha::DEFAULT_RHO_INF;
+use crate::integrate::{AlphaSteps, Limits, Method, Stats, integrate, integrate_generalized_alpha};
+
+/// The method of `auto`'s implicit spans.
+pub const IMPLICIT: &str = "generalized-alpha";
 
 /// The cost of one SDIRK4 step in DOP853 steps (15 right-hand sides each), measured on the
 /// starshade flasher (228 panels): about 18 right-hand sides, 14 sparse solves of about the
@@ -54,7 +58,7 @@ pub(super) fn integrate_auto(
     let mut y = y0.to_vec();
     // Go on in the method of the span before (a stepped run's next piece).
     let spans = &out.s.spans;
-    let mut implicit = spans.last().is_some_and(|s| s.method == "sdirk4");
+    let mut implicit = spans.last().is_some_and(|s| s.method == IMPLICIT);
     let mut stable_step = spans.iter().rev().find_map(|s| s.stable_step).unwrap_or(f64::INFINITY);
     let mut watch =
         FIRST_WATCH_STEPS << spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1).min(20);
@@ -65,7 +69,7 @@ pub(super) fn integrate_auto(
         let steps_so_far = total.accepted + total.rejected;
         let max_steps = base.max_steps.saturating_sub(steps_so_far).max(1);
         out.s.restore_every_step = implicit;
-        out.s.method = if implicit { "sdirk4" } else { "dop853" };
+        out.s.method = if implicit { IMPLICIT } else { "dop853" };
         let mut tracked = Tracked { out: &mut *out, end: &mut *end };
         let (limits, result) = if implicit {
             let limits = Limits {
@@ -74,12 +78,13 @@ pub(super) fn integrate_auto(
                 hand_back_below: stable_step.is_finite().then_some((HAND_BACK_STEPS, IMPLICIT_STEP_COST * stable_step)),
                 ..base
             };
-            let r = integrate_sdirk4(
+            let r = integrate_generalized_alpha(
                 dynamics,
                 &mut newton,
+                AlphaSteps::Adaptive(settings.error_norm),
+                DEFAULT_RHO_INF,
                 rtol,
                 atol,
-                settings.error_norm,
                 limits,
                 t,
                 t1,
@@ -121,7 +126,7 @@ pub(super) fn integrate_auto(
             stable_step = stats.last_step;
             out.s.spans.push(MethodSpan {
                 from: t,
-                method: "sdirk4",
+                method: IMPLICIT,
                 why: format!("stiff: DOP853's steps ({:.3e} s) held by stability, not accuracy", stats.last_step),
                 stable_step: Some(stats.last_step),
             });
@@ -129,6 +134,6 @@ pub(super) fn integrate_auto(
         }
         implicit = !implicit;
     }
-    total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == "sdirk4").map(|s| s.from));
+    total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == IMPLICIT).map(|s| s.from));
     Ok((total, newton.jacobian_counts().1))
 }

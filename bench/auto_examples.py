@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""integrator = "auto" against DOP853 and SDIRK4 on every example.
+"""integrator = "auto" against DOP853, SDIRK4 and adaptive generalized-alpha on every example.
 
-Each example in examples/ (those with rtol and atol: not the fixed-step ones) is run three
-ways at its own tolerances: as "auto", "dop853" and "sdirk4" (the integrator line replaced,
-nothing else), the three alternated in each round, --reps rounds, and the median wall time
-of each reported with the ratio auto / best of the two fixed choices (the issue's bound:
-at most 1.2). A run longer than --timeout is stopped and shown as "> T s". Also reported:
+Each example in examples/ (those with rtol and atol: not the fixed-step ones) is run four
+ways at its own tolerances: as "auto", "dop853", "sdirk4" and "generalized-alpha" (adaptive:
+no step; the integrator line replaced, nothing else), the four alternated in each round,
+--reps rounds, and the median wall time of each reported with the ratio auto / best of the
+three fixed choices (the issue's bound: at most 1.2). A run longer than --timeout is stopped and shown as "> T s". Also reported:
 the methods auto used (from its report) and the largest difference of auto's body
 positions from the fixed method at the example's own choice, so that a faster auto is seen
 to give the same answer to the tolerance. The machine load is printed before and after.
@@ -26,7 +26,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FOLDSIM = os.environ.get("FOLDSIM", os.path.join(ROOT, "target", "release", "foldsim"))
-METHODS = ["auto", "dop853", "sdirk4"]
+METHODS = ["auto", "dop853", "sdirk4", "generalized-alpha"]
 
 
 def load():
@@ -35,7 +35,7 @@ def load():
 
 def variant(text, method):
     """The example's text with its integrator replaced (auto: the line removed)."""
-    line = re.compile(r'^integrator\s*=\s*"[a-z0-9]+"\s*$', re.M)
+    line = re.compile(r'^integrator\s*=\s*"[a-z0-9-]+"\s*$', re.M)
     if method == "auto":
         return line.sub("", text)
     return line.sub(f'integrator = "{method}"', text)
@@ -118,11 +118,11 @@ def main():
                 os.remove(p)
         med = {k: statistics.median(v) for k, v in walls.items() if v and k not in notes}
         shown = {k: notes.get(k) or f"{med[k]:.2f} s" for k in METHODS}
-        fixed = [med[k] for k in ("dop853", "sdirk4") if k in med]
+        fixed = [med[k] for k in METHODS[1:] if k in med]
         ratio = f"{med['auto'] / min(fixed):.2f}" if "auto" in med and fixed else "-"
-        spans = re.findall(r"(dop853|sdirk4) from t = ([0-9.]+) s", report)
+        spans = re.findall(r"(dop853|sdirk4|generalized-alpha) from t = ([0-9.]+) s", report)
         used = " ".join(f"{a}@{b}" for a, b in spans[:6])
-        switches = len(re.findall(r"(?:dop853|sdirk4) from t =", report)) - 1
+        switches = len(re.findall(r"(?:dop853|sdirk4|generalized-alpha) from t =", report)) - 1
         more = re.search(r"\.\.\. (\d+) switches in all", report)
         if more:
             switches = int(more.group(1))
@@ -130,14 +130,15 @@ def main():
         diff = "-"
         if "auto" in med and ref in med:
             diff = f"{largest_difference(os.path.join(tmp, f'{name}-{ref}.csv'), os.path.join(tmp, f'{name}-auto.csv')):.1e}"
-        rows.append((name, own, shown["auto"], shown["dop853"], shown["sdirk4"], ratio, f"{switches}", used, diff, ref))
+        rows.append((name, own, shown["auto"], shown["dop853"], shown["sdirk4"], shown["generalized-alpha"], ratio,
+                     f"{switches}", used, diff, ref))
         print(" | ".join(rows[-1]), flush=True)
     print(f"load after: {' '.join(load())}")
     print()
-    print("| example | its own | auto | dop853 | sdirk4 | auto / best | switches | methods (first 6) | auto vs its own (m) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| example | its own | auto | dop853 | sdirk4 | generalized-alpha | auto / best | switches | methods (first 6) | auto vs its own (m) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print("| " + " | ".join(r[:9]) + " |")
+        print("| " + " | ".join(r[:10]) + " |")
 
 
 if __name__ == "__main__":

@@ -205,7 +205,11 @@ fn bad_times() {
     };
     let adaptive = Scenario::from_toml(&ga("")(GOOD), "good.toml").unwrap();
     assert!(matches!(adaptive.settings.integrator, Integrator::GeneralizedAlpha { step: None, .. }));
-    expect_error(|t| ga("")(t).replace("rtol = 1e-9\n", ""), Some("[run]"), &["run.rtol", "generalized-alpha", "error"]);
+    expect_error(
+        |t| ga("")(t).replace("rtol = 1e-9\n", ""),
+        Some("[run]"),
+        &["run.rtol", "generalized-alpha", "error"],
+    );
     expect_error(ga("step = 0.01\nrho_inf = 1.5"), Some("rho_inf = 1.5"), &["run.rho_inf", "0", "1"]);
     expect_error(
         |t| t.replace("integrator = \"dop853\"", "integrator = \"dop853\"\nrho_inf = 0.9"),

@@ -237,6 +237,17 @@ fn extremes() -> Vec<(String, String)> {
         ("yaw 1e17 deg", "yaw_deg = 30.0", "yaw_deg = 1e17"),
         ("yaw 1e17 rad", "yaw_deg = 30.0", "yaw = 1e17"),
         ("rk4 step 1e-300", "integrator = \"dop853\"\nrtol = 1e-8\natol = 1e-8", "integrator = \"rk4\"\nstep = 1e-300"),
+        (
+            "adaptive generalized-alpha 1e-20",
+            "integrator = \"dop853\"\nrtol = 1e-8\natol = 1e-8",
+            "integrator = \"generalized-alpha\"\nrtol = 1e-20\natol = 1e-20",
+        ),
+        (
+            "adaptive generalized-alpha rho 0, stiff",
+            "integrator = \"dop853\"\nrtol = 1e-8\natol = 1e-8",
+            "integrator = \"generalized-alpha\"\nrho_inf = 0.0\nrtol = 1e-3\natol = 1e-3",
+        ),
+        ("adaptive generalized-alpha at 1e-8", "integrator = \"dop853\"", "integrator = \"generalized-alpha\""),
         ("duration 1e12", "duration = 1.0", "duration = 1e12"),
         ("output step 1e-12", "output_step = 0.01", "output_step = 1e-12"),
         ("omega 1e300", "[initial.hinge.h1]", "[initial.hub]\nomega = [1e300, 0.0, 0.0]\n\n[initial.hinge.h1]"),

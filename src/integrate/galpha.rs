@@ -267,7 +267,11 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             stats.rhs_evaluations += 1;
             let (w_back, w_here, w_new) = if f_back_valid {
                 let hp = h_prev;
-                (-h * h * h / (6.0 * hp * (hp + h)), h * h / (6.0 * hp) + 0.5 * h, h * (2.0 * h + 3.0 * hp) / (6.0 * (h + hp)))
+                (
+                    -h * h * h / (6.0 * hp * (hp + h)),
+                    h * h / (6.0 * hp) + 0.5 * h,
+                    h * (2.0 * h + 3.0 * hp) / (6.0 * (h + hp)),
+                )
             } else {
                 (0.0, 0.5 * h, 0.5 * h)
             };
@@ -281,12 +285,8 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             // k = 3): the estimate's step-to-step scatter (stiff vibrations the method damps
             // over several steps) no longer turns into rejections (the stiff grid at rtol
             // 1e-7: 894 rejected of 3,288 with the I controller, 10 of 3,221 with this).
-            factor = if history {
-                0.9 * e.powf(-0.7 / 3.0) * e_last.powf(0.4 / 3.0)
-            } else {
-                0.9 * e.powf(-1.0 / 3.0)
-            }
-            .clamp(0.2, 4.0);
+            factor = if history { 0.9 * e.powf(-0.7 / 3.0) * e_last.powf(0.4 / 3.0) } else { 0.9 * e.powf(-1.0 / 3.0) }
+                .clamp(0.2, 4.0);
             e_now = e;
             if e > 1.0 {
                 stats.rejected += 1;
@@ -527,7 +527,14 @@ mod adaptive_tests {
         }
     }
 
-    fn solve<S: OdeSystem>(sys: &S, steps: AlphaSteps, rho_inf: f64, tol: f64, tf: f64, y0: &[f64]) -> (Vec<f64>, Stats) {
+    fn solve<S: OdeSystem>(
+        sys: &S,
+        steps: AlphaSteps,
+        rho_inf: f64,
+        tol: f64,
+        tf: f64,
+        y0: &[f64],
+    ) -> (Vec<f64>, Stats) {
         let mut newton = DenseNewton::new(sys, y0.len());
         let mut end = vec![];
         let stats = integrate_generalized_alpha(
@@ -550,15 +557,61 @@ mod adaptive_tests {
         (end, stats)
     }
 
+    /// The slow oscillator's error at t = 10 s, and the steps.
+    fn slow_error(fast: f64, tol: f64) -> (f64, Stats, f64) {
+        let z0 = if fast > 0.0 { 1e-3 * tol } else { 0.0 };
+        let (y, s) = solve(
+            &SlowAndFast(fast),
+            AlphaSteps::Adaptive(ErrorNorm::Displacement),
+            0.9,
+            tol,
+            10.0,
+            &[1.0, z0, 0.0, 0.0],
+        );
+        (((y[0] - 10f64.cos()).powi(2) + (y[2] + 10f64.sin()).powi(2)).sqrt(), s, y[1])
+    }
+
+    /// Adaptive steps hold a second-order method's global error to the tolerance as error
+    /// per step does: the local error ~ tol at steps ~ tol^(1/3), so the global error goes
+    /// as tol^(2/3) and a thousandth of the tolerance divides it by about 100 (measured 74
+    /// on the oscillator, 80 on the quadrature `y' = t²`; 30–300 allows the steps' scatter
+    /// and the start); and the error stays within 5 × (steps × tol), each step's share
+    /// (measured 2.6 and 3.7 for the oscillator, whose phase error adds up step by step).
+    /// Both problem types: an estimate scaled by one type's error constant misjudges the
+    /// other (−0.041 for the quadrature at ρ∞ = 0.9, +0.084 for the oscillator).
     #[test]
-    fn explore() {
-        for tol in [1e-4, 1e-6, 1e-8] {
-            let (y, s) = solve(&SlowAndFast(0.0), AlphaSteps::Adaptive(ErrorNorm::Displacement), 0.9, tol, 10.0, &[1.0, 0.0, 0.0, 0.0]);
-            let e = ((y[0] - 10f64.cos()).powi(2) + (y[2] + 10f64.sin()).powi(2)).sqrt();
-            eprintln!("slow tol {tol}: err {e:e} steps {} rej {}", s.accepted, s.rejected);
-            let (y, s) = solve(&SlowAndFast(1e4), AlphaSteps::Adaptive(ErrorNorm::Displacement), 0.9, tol, 10.0, &[1.0, 1e-6, 0.0, 0.0]);
-            let e = ((y[0] - 10f64.cos()).powi(2) + (y[2] + 10f64.sin()).powi(2)).sqrt();
-            eprintln!("slow+fast tol {tol}: err {e:e} steps {} rej {} z {:e}", s.accepted, s.rejected, y[1]);
-        }
+    fn adaptive_error_follows_the_tolerance() {
+        let (e6, s6, _) = slow_error(0.0, 1e-6);
+        let (e9, s9, _) = slow_error(0.0, 1e-9);
+        eprintln!("oscillator: {e6:e} in {} steps at 1e-6, {e9:e} in {} at 1e-9", s6.accepted, s9.accepted);
+        assert!((30.0..300.0).contains(&(e6 / e9)), "ratio {}", e6 / e9);
+        assert!(e6 < 5.0 * s6.accepted as f64 * 1e-6 && e9 < 5.0 * s9.accepted as f64 * 1e-9);
+        let quad = |tol: f64| {
+            let (y, s) = solve(&Quadrature, AlphaSteps::Adaptive(ErrorNorm::Displacement), 0.9, tol, 3.0, &[0.0]);
+            ((y[0] - 9.0).abs(), s.accepted)
+        };
+        let ((q6, n6), (q9, n9)) = (quad(1e-6), quad(1e-9));
+        eprintln!("quadrature: {q6:e} in {n6} steps at 1e-6, {q9:e} in {n9} at 1e-9");
+        assert!((30.0..300.0).contains(&(q6 / q9)), "ratio {}", q6 / q9);
+        // Each step's share: atol + rtol |y| = 1e-5 at y = 9.
+        assert!(q6 < 5.0 * n6 as f64 * 1e-5 && q9 < 5.0 * n9 as f64 * 1e-8);
+    }
+
+    /// A vibration at ω = 1e4 rad/s beside the slow one, its amplitude a thousandth of the
+    /// tolerance: with the rates weighed by the step and the estimate filtered through W⁻¹
+    /// it does not set the steps (the same count within 5 %, measured 329 and 329 at 1e-6),
+    /// the slow motion's error is the same within 5 %, and the method damps the vibration
+    /// (ρ∞ = 0.9 per step) by more than 1e6 over the run.
+    #[test]
+    fn vibrations_below_the_tolerance_do_not_set_the_step() {
+        let (e0, s0, _) = slow_error(0.0, 1e-6);
+        let (e1, s1, z) = slow_error(1e4, 1e-6);
+        eprintln!(
+            "slow alone {} steps, {e0:e}; with the vibration {} steps, {e1:e}, z {z:e}",
+            s0.accepted, s1.accepted
+        );
+        assert!((s1.accepted as f64 / s0.accepted as f64 - 1.0).abs() < 0.05);
+        assert!((e1 / e0 - 1.0).abs() < 0.05);
+        assert!(z.abs() < 1e-6 * 1e-9);
     }
 }

@@ -165,7 +165,9 @@ impl RunSettings {
         // A fixed step asks for duration / step steps: the budget leaves room for twice that
         // (cuts to land on breaks, halvings where Newton fails) whatever the hinges' rates.
         let fixed = match self.integrator {
-            Integrator::Rk4 { step } | Integrator::GeneralizedAlpha { step: Some(step), .. } => 2.0 * self.duration / step,
+            Integrator::Rk4 { step } | Integrator::GeneralizedAlpha { step: Some(step), .. } => {
+                2.0 * self.duration / step
+            }
             _ => 0.0,
         };
         let max_steps = self.max_steps.unwrap_or_else(|| {

@@ -52,4 +52,5 @@ pub const EXTREMES: &[&str] = &[
     "720.0",
     "1e5",
     "2e-16",
+    "\"generalized-alpha\"",
 ];

@@ -7,7 +7,7 @@
 //!   coefficients in `tableau`;
 //! - [`sdirk4`]: the L-stable implicit SDIRK4 ([`integrate_sdirk4`]), which solves with a
 //!   [`NewtonMatrix`] from [`newton`];
-//! - [`galpha`]: the generalized-α method at a fixed step ([`integrate_generalized_alpha`]),
+//! - [`galpha`]: the generalized-α method at fixed or adaptive steps ([`integrate_generalized_alpha`]),
 //!   with the same Newton matrix.
 
 pub mod explicit;

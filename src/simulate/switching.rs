@@ -1,18 +1,19 @@
-//! `integrator = "auto"`: DOP853 while it pays, adaptive generalized-α where stiffness
-//! limits DOP853's steps, and back when the implicit steps shrink to where DOP853 would be
-//! cheaper.
+//! `integrator = "auto"`: DOP853 while it pays, an implicit method where stiffness limits
+//! DOP853's steps (adaptive generalized-α, or SDIRK4 with contact: [`implicit_method`]),
+//! and back when the implicit steps shrink to where DOP853 would be cheaper.
 //!
-//! The switch to generalized-α is Hairer's stiffness test in DOP853 (`dop853.f`: h·|λ|
+//! The switch to the implicit method is Hairer's stiffness test in DOP853 (`dop853.f`: h·|λ|
 //! beyond the stability boundary, 6.1, on 15 accepted steps in a row), the same test that
 //! the report's stiffness note prints. The switch back is a cost comparison made from step
 //! sizes alone, so that a run is the same on every machine: an implicit step costs about
-//! [`IMPLICIT_STEP_COST`] DOP853 steps, so the implicit method hands back once
+//! [`implicit_method`]'s cost in DOP853 steps, so the implicit method hands back once
 //! [`HAND_BACK_STEPS`] of its steps in a row were shorter than that many times the step
 //! DOP853 was held to by stability. After each hand-back DOP853 runs at least twice as many
 //! steps as before it may switch again, so two methods of equal cost cannot ping-pong.
 //! Every switch is recorded for the report ([`MethodSpan`]).
 //!
-//! Why generalized-α and not SDIRK4 (which this was until it had error control): on the
+//! Why generalized-α without contact and not SDIRK4 (which it was until generalized-α had
+//! error control): on the
 //! starshade flasher (10 s, the Exudyn comparison's case) it reached 1e-5 m where SDIRK4
 //! stopped at 2.1e-5 m at rtol 1e-7 in twice the time; its ρ∞ = 0.9 damps the stiff
 //! vibrations it steps over over tens of steps, where SDIRK4 (L-stable) removes them at
@@ -24,19 +25,25 @@ use super::stopped::stopped;
 use super::stream::{StreamOut, Tracked};
 use crate::dynamics::newton::GraphNewton;
 use crate::integrate::galpha::DEFAULT_RHO_INF;
-use crate::integrate::{AlphaSteps, Limits, Method, Stats, integrate, integrate_generalized_alpha};
+use crate::integrate::{AlphaSteps, Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
 
-/// The method of `auto`'s implicit spans.
-pub const IMPLICIT: &str = "generalized-alpha";
-
-/// The cost of one implicit (generalized-α) step in DOP853 steps (12 right-hand sides
-/// each), measured on the starshade flasher (228 panels): about 3.5 Newton iterations of
-/// one right-hand side and one sparse solve each, one right-hand side and one solve for the
-/// error estimate, and a Jacobian every 30–150 steps; 0.78 ms a step against DOP853's
-/// 0.84 ms (rtol 1e-7 and 1e-10, same machine and load). (It was 3 for SDIRK4's five
-/// stages; with 3 the stiff grid at rtol 1e-5 handed back to DOP853 18 times, whose steps
-/// at the stability limit then let the energy grow 35-fold.)
-pub const IMPLICIT_STEP_COST: f64 = 1.0;
+/// The implicit method of `auto` for a model, and what one of its steps costs in DOP853
+/// steps (12 right-hand sides each).
+///
+/// Without contact, adaptive generalized-α: about 3.5 Newton iterations of one right-hand
+/// side and one sparse solve each, one right-hand side and one solve for the error
+/// estimate, and a Jacobian every 30–150 steps: 0.78 ms a step on the starshade flasher
+/// against DOP853's 0.84 ms (rtol 1e-7 and 1e-10, same machine and load), so 1. (With
+/// SDIRK4's 3 the stiff grid at rtol 1e-5 handed back to DOP853 18 times, whose steps at
+/// the stability limit then let the energy grow 35-fold.)
+///
+/// With contact, SDIRK4 (18 right-hand sides, 14 sparse solves and a share of Jacobians a
+/// step: 3): its L-stable steps through impacts cost less than generalized-α's on both
+/// contact examples that switch (`bench/auto_examples.py`, medians of 3: the thick flasher
+/// 4.99 s against 7.97 s, the contact z-fold 6.46 s against 8.31 s).
+pub fn implicit_method(model: &crate::model::Model) -> (&'static str, f64) {
+    if model.contact.is_some() { ("sdirk4", 3.0) } else { ("generalized-alpha", 1.0) }
+}
 
 /// Accepted SDIRK4 steps in a row shorter than the break-even step before it hands back.
 pub const HAND_BACK_STEPS: usize = 20;
@@ -68,7 +75,8 @@ pub(super) fn integrate_auto(
     let mut y = y0.to_vec();
     // Go on in the method of the span before (a stepped run's next piece).
     let spans = &out.s.spans;
-    let mut implicit = spans.last().is_some_and(|s| s.method == IMPLICIT);
+    let (implicit_name, step_cost) = implicit_method(model);
+    let mut implicit = spans.last().is_some_and(|s| s.method == implicit_name);
     let mut stable_step = spans.iter().rev().find_map(|s| s.stable_step).unwrap_or(f64::INFINITY);
     let mut watch =
         FIRST_WATCH_STEPS << spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1).min(20);
@@ -79,28 +87,34 @@ pub(super) fn integrate_auto(
         let steps_so_far = total.accepted + total.rejected;
         let max_steps = base.max_steps.saturating_sub(steps_so_far).max(1);
         out.s.restore_every_step = implicit;
-        out.s.method = if implicit { IMPLICIT } else { "dop853" };
+        out.s.method = if implicit { implicit_name } else { "dop853" };
         let mut tracked = Tracked { out: &mut *out, end: &mut *end };
         let (limits, result) = if implicit {
             let limits = Limits {
                 first_step: first,
                 max_steps,
-                hand_back_below: stable_step.is_finite().then_some((HAND_BACK_STEPS, IMPLICIT_STEP_COST * stable_step)),
+                hand_back_below: stable_step.is_finite().then_some((HAND_BACK_STEPS, step_cost * stable_step)),
                 ..base
             };
-            let r = integrate_generalized_alpha(
-                dynamics,
-                &mut newton,
-                AlphaSteps::Adaptive(settings.error_norm),
-                DEFAULT_RHO_INF,
-                rtol,
-                atol,
-                limits,
-                t,
-                t1,
-                &y,
-                |s: &crate::integrate::Step<'_>| tracked.on_step(s),
-            );
+            let on_step = |s: &crate::integrate::Step<'_>| tracked.on_step(s);
+            let r = if implicit_name == "sdirk4" {
+                integrate_sdirk4(dynamics, &mut newton, rtol, atol, settings.error_norm, limits, t, t1, &y, on_step)
+            } else {
+                let steps = AlphaSteps::Adaptive(settings.error_norm);
+                integrate_generalized_alpha(
+                    dynamics,
+                    &mut newton,
+                    steps,
+                    DEFAULT_RHO_INF,
+                    rtol,
+                    atol,
+                    limits,
+                    t,
+                    t1,
+                    &y,
+                    on_step,
+                )
+            };
             (limits, r)
         } else {
             let limits = Limits { first_step: first, max_steps, stop_when_stiff: Some(watch), ..base };
@@ -126,7 +140,7 @@ pub(super) fn integrate_auto(
                 method: "dop853",
                 why: format!(
                     "{HAND_BACK_STEPS} implicit steps in a row below {:.3e} s, where DOP853 costs less",
-                    IMPLICIT_STEP_COST * stable_step
+                    step_cost * stable_step
                 ),
                 stable_step: None,
             });
@@ -136,7 +150,7 @@ pub(super) fn integrate_auto(
             stable_step = stats.last_step;
             out.s.spans.push(MethodSpan {
                 from: t,
-                method: IMPLICIT,
+                method: implicit_name,
                 why: format!("stiff: DOP853's steps ({:.3e} s) held by stability, not accuracy", stats.last_step),
                 stable_step: Some(stats.last_step),
             });
@@ -144,6 +158,6 @@ pub(super) fn integrate_auto(
         }
         implicit = !implicit;
     }
-    total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == IMPLICIT).map(|s| s.from));
+    total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == implicit_name).map(|s| s.from));
     Ok((total, newton.jacobian_counts().1))
 }

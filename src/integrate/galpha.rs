@@ -105,7 +105,7 @@ const MAX_ITERATIONS: usize = 10;
 /// device) was wrong by 2× and in sign on one or the other. The estimate is filtered through
 /// `W⁻¹` as SDIRK4's is (Hairer & Wanner's remedy for vibrations beyond the step, which
 /// the method damps rather than follows). The step follows a PI control within [0.2, 4]
-/// times the last, kept for changes within [`KEEP_STEP`] (the factorization then serves).
+/// times the last, kept for changes within 0.9–1.2 times it (the factorization then serves).
 /// Before a step of a new length ẏₙ is shifted to it (the method's derivative lags the
 /// state by `(α_f − α_m) h`, Arnold & Brüls 2007).
 #[allow(clippy::too_many_arguments)]

@@ -10,11 +10,11 @@ use foldsim::scenario::Scenario;
 
 /// A stiff loop-heavy grid (1e7 N/m off-axis), 10 s at 1e-6, left without an integrator:
 /// auto starts with DOP853, finds it held by stability and finishes with generalized-α in
-/// far fewer steps than DOP853 alone (834 against 26,550); every body follows DOP853's run
+/// far fewer steps than DOP853 alone (873 against 26,550); every body follows DOP853's run
 /// to 1e-4 m (the grid's panels move ~1 m; both runs at rtol 1e-6, so their difference is
-/// their errors': measured 3.7e-5 m); the momenta are held to round-off (1e-12 of their
+/// their errors': measured 3.6e-5 m); the momenta are held to round-off (1e-12 of their
 /// scales), and E + D to 3e-4 of the energy: ρ∞ = 0.9 damps the stiff vibrations the steps
-/// go over, which the default norm allows (measured 7.8e-5; SDIRK4 with its default
+/// go over, which the default norm allows (measured 7.2e-5; SDIRK4 with its default
 /// error_norm = "state" keeps 1e-5, tests/generated.rs, in 35× the steps).
 #[test]
 fn auto_switches_to_the_implicit_method_on_a_stiff_grid() {

@@ -8,8 +8,9 @@
 //! damping the slow motion: at ρ∞ = 0.9 a vibration it cannot resolve loses 10 % of its
 //! amplitude per step, where SDIRK4 (L-stable) removes it at once. With steps at a fixed `h`
 //! (cut only to land on the end or a break of the right-hand side, or halved when Newton
-//! fails) the user chooses the accuracy by the step, as with RK4; the Newton iterations
-//! converge to the run's rtol and atol.
+//! fails) the user chooses the accuracy by the step, as with RK4, and the Newton iterations
+//! converge to the run's rtol and atol; with adaptive steps ([`AlphaSteps::Adaptive`]) each
+//! step's local error is held to them ([`integrate_generalized_alpha`] says how).
 //!
 //! For `ẏ = f(t, y)`, with `ẏₙ` the method's own derivative (not f(yₙ) after the first step):
 //!
@@ -24,7 +25,9 @@
 //! `hγ (α_f/α_m)` in place of its `hγ`.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, norm};
+use super::step::{
+    Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, first_step_rule, norm,
+};
 
 /// The method's three parameters from ρ∞ (Jansen, Whiting & Hulbert, eq. 21).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -133,7 +136,6 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let AlphaParameters { alpha_m, alpha_f, gamma } = params;
     let n = y0.len();
     let mut rates = vec![false; n];
-    let no_rates = vec![false; n];
     let fixed = match steps {
         AlphaSteps::Fixed(h) => Some(h),
         AlphaSteps::Adaptive(kind) => {
@@ -156,7 +158,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let mut history = false;
     announce_start(t0, &y, &mut on_step)?;
     let newton_h = |h: f64| h * gamma * alpha_f / alpha_m;
-    let start = fixed.unwrap_or((1e-3 * (tf - t0)).min(1e-2));
+    let start = fixed.unwrap_or_else(|| first_step_rule(t0, tf));
     let mut h = limits.first_step.unwrap_or(start).min(fixed.unwrap_or(f64::INFINITY)).min(tf - t0);
     stats.jacobians += 1;
     if !newton.prepare(t, &y, &yd, newton_h(h)) {
@@ -171,14 +173,14 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let (mut forced, mut non_finite, mut after_rejection) = (false, false, false);
     let mut short_steps = 0;
     let mut h_prev = h;
-    // The step ẏₙ's shift is consistent with (adaptive steps), and the last step's error
-    // estimate `C h₋₁³ y'''`.
+    // The step ẏₙ's shift is consistent with (adaptive steps).
     let shift_a = alpha_f - alpha_m;
     let mut h_valid = h;
     // f at the accepted states yₙ₋₁ and yₙ, and at the step's end (adaptive steps).
     let (mut f_back, mut f_here, mut f_new) = (vec![0.0; n], yd.clone(), vec![0.0; n]);
     let mut f_back_valid = false;
-    let (mut e_last, mut e_now) = (1.0f64, 1.0f64);
+    // The last accepted step's error, for the PI control.
+    let mut e_last = 1.0f64;
     // The last rejection by the error test: where, its error and step.
     let (mut rejected_at, mut e_rejected, mut h_rejected) = (None, 0.0, 0.0);
     loop {
@@ -247,8 +249,9 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             // Every component as it is (rates not weighed by the step): an iteration's
             // velocity residual that the error norm would let pass at h × its size is a drift
             // that the steps carry to the end (the starshade's error at rtol 1e-7 was 1.4e-5 m
-            // with the rates weighed by h here, 8.0e-7 m with them as they are).
-            let d = norm(&r, &y_new, &no_rates, 1.0, rtol, atol) / kappa;
+            // with the rates weighed by h here, 9.2e-7 m with them as they are). (Weighing
+            // the marked rates by 1 s is the state norm.)
+            let d = norm(&r, &y_new, &rates, 1.0, rtol, atol) / kappa;
             // Converged below kappa (tested first: at a step of a few round-offs of t, taken
             // to land on an event, an increment at round-off level may be twice the last
             // and is still converged); or within the tolerance and no longer contracting
@@ -319,7 +322,6 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             // 1e-7: 894 rejected of 3,288 with the I controller, 10 of 3,221 with this).
             factor = if history { 0.9 * e.powf(-0.7 / 3.0) * e_last.powf(0.4 / 3.0) } else { 0.9 * e.powf(-1.0 / 3.0) }
                 .clamp(0.2, 4.0);
-            e_now = e;
             // A jump of f inside the step (a force that switches on steeply at a state the run
             // does not locate: contact-panel-hub at rtol 1e-9 at 0.85092 s) gives an error
             // that falls only in proportion to h, however short the step: after two such
@@ -343,6 +345,11 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             if jump {
                 factor = 1.0;
             }
+            // Hairer's DOPRI5 keeps the last error at 1e-4 or more for the PI control: an
+            // error far below the tolerance before a normal one would otherwise read as a
+            // fast rise and cut the step to a fifth (the latch z-fold under forced
+            // generalized-α fell below its step floor that way, after tiny steps at a jump).
+            e_last = e.max(1e-4);
             if after_rejection {
                 // A step right after a rejection may not grow (as SDIRK4's).
                 factor = factor.min(1.0);
@@ -366,11 +373,6 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         yd.copy_from_slice(&yd_new);
         history = true;
         h_valid = h;
-        // Hairer's DOPRI5 keeps the last error at 1e-4 or more for the PI control: an
-        // error far below the tolerance before a normal one would otherwise read as a fast
-        // rise and cut the step to a fifth (the latch z-fold under forced generalized-α
-        // fell below its step floor that way, after a run of tiny steps at a jump).
-        e_last = e_now.max(1e-4);
         if fixed.is_none() {
             std::mem::swap(&mut f_back, &mut f_here);
             std::mem::swap(&mut f_here, &mut f_new);

@@ -6,7 +6,9 @@
 //! formed and factored is separate from the method.
 
 use super::newton::NewtonMatrix;
-use super::step::{Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, norm};
+use super::step::{
+    Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, first_step_rule, norm,
+};
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -49,7 +51,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     system.rhs(t, &y, &mut f0);
     stats.rhs_evaluations += 1;
     announce_start(t0, &y, &mut on_step)?;
-    let mut h = limits.first_step.unwrap_or((1e-3 * (tf - t0)).min(1e-2)).min(tf - t0);
+    let mut h = limits.first_step.unwrap_or_else(|| first_step_rule(t0, tf)).min(tf - t0);
     let mut fresh_jacobian = true;
     stats.jacobians += 1;
     if !newton.prepare(t, &y, &f0, h * GAMMA) {

@@ -19,7 +19,7 @@ pub trait OdeSystem {
     /// units of the components it drives (Hairer & Wanner, *Solving ODEs II*, §VII.3 and
     /// §VII.8, scale the error of a DAE's higher-index components by h in the same way).
     /// The stiff, lightly damped vibrations whose rates the positions never show then
-    /// stop setting the step (docs/integrators.md).
+    /// stop setting the step (docs/scenario.md, `run.error_norm`).
     fn mark_rates(&self, _rates: &mut [bool]) {}
 }
 
@@ -234,6 +234,12 @@ pub enum ErrorNorm {
     /// Every component as it is (Hairer's norm): the rates of stiff vibrations resolved to
     /// the tolerance too, at the cost of steps set by them.
     State,
+}
+
+/// The implicit methods' first step without [`Limits::first_step`]: a thousandth of the
+/// interval, at most 10 ms (the step control takes it from there).
+pub(super) fn first_step_rule(t0: f64, tf: f64) -> f64 {
+    (1e-3 * (tf - t0)).min(1e-2)
 }
 
 /// The root-mean-square of `v` scaled by the tolerances at `y`, the components marked in

@@ -105,7 +105,7 @@ impl Trend {
 
 /// When a run's pace has been seen, for a projection: `after` of wall time in the method in
 /// use (s); but under `auto`, while it still runs the DOP853 it starts with and its steps are
-/// held by the stiffest hinge (`auto` then switches to SDIRK4 soon: see [`Trend`]), until it
+/// held by the stiffest hinge (`auto` then switches to its implicit method soon: see [`Trend`]), until it
 /// changes or four times `after` have passed.
 #[derive(Clone, Debug)]
 pub struct Phase {

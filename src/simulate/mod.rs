@@ -10,7 +10,7 @@
 //! - [`stepper`]: a run advanced piece by piece ([`Stepper`]), for a controller outside;
 //! - [`stream`]: the step handler a run and a stepped run share;
 //! - [`stopped`]: why an integration stopped, in the user's terms;
-//! - [`switching`]: `integrator = "auto"`, DOP853 and SDIRK4 each where it pays;
+//! - [`switching`]: `integrator = "auto"`, DOP853 and an implicit method (generalized-α, SDIRK4 with contact) each where it pays;
 //! - [`pace`]: what the progress callback is told ([`Progress`]), and what holds a run's steps back;
 //! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
 //! - [`estimate`]: a run's wall time, projected from a short trial of it.

@@ -29,8 +29,9 @@ pub enum Integrator {
         /// Absolute tolerance per component.
         atol: f64,
     },
-    /// DOP853 while it pays, SDIRK4 where stiffness limits DOP853's steps, and back: the
-    /// default (docs/integrators.md; [`super::switching`]).
+    /// DOP853 while it pays, an implicit method where stiffness limits DOP853's steps
+    /// (adaptive generalized-α, or SDIRK4 with contact), and back: the default
+    /// (docs/scenario.md; [`super::switching`]).
     Auto {
         /// Relative tolerance per component.
         rtol: f64,
@@ -101,7 +102,7 @@ pub struct RunSettings {
     pub output_step: f64,
     /// Integration method.
     pub integrator: Integrator,
-    /// How the implicit steps (SDIRK4, and `auto`'s implicit spans) weigh each component's
+    /// How the implicit steps (SDIRK4, adaptive generalized-α, `auto`'s implicit spans) weigh each component's
     /// error (`run.error_norm`): the rates by the step (the default of `auto`), or every
     /// component as it is (the default of `sdirk4`).
     pub error_norm: ErrorNorm,

@@ -4,7 +4,7 @@
 //! note when the whole run is projected to take more than [`LONG`] (even under `--quiet`: a
 //! run of hours should never start in silence). Projections follow the run's trend
 //! (`foldsim::simulate::estimate::Trend`): a deployment from a packed start speeds up, and
-//! under `auto` a stiff model's first DOP853 steps are no guide to the SDIRK4 that follows
+//! under `auto` a stiff model's first DOP853 steps are no guide to the implicit method that follows
 //! (the note waits for the switch: `estimate::Phase`).
 
 use foldsim::simulate::estimate::{Phase, Trend, human_seconds};

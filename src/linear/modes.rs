@@ -236,14 +236,12 @@ impl Modes {
             })
             .collect();
         free.sort_by(|x, y| x.eigenvalue.total_cmp(&y.eigenvalue));
-        let shift = first_mode_shift(stiffest);
-        let (lambda, shapes) = free_problem.nearest(shift, count)?;
+        let (lambda, shapes) = free_problem.lowest(count)?;
         free.extend(lambda.iter().enumerate().map(|(j, l)| make(*l, shapes.column(j).into_owned())));
         // Hub fixed: no rigid motion left.
         let (kc, cc, mc) = (k.without(0), c.without(0), m.without(0));
         let fixed_problem = super::lanczos::Problem::new(&kc, &mc, stiffest);
-        let shift = first_mode_shift(stiffest);
-        let (lambda_c, shapes_c) = fixed_problem.nearest(shift, count)?;
+        let (lambda_c, shapes_c) = fixed_problem.lowest(count)?;
         let (t, mt, total) = hub_influence(lin, positions, dcm_n_b);
         let hub_fixed = hub_fixed_modes(&lambda_c, &shapes_c, &mt, |x| x.dot(&cc.mul(x)));
         Ok(Self {
@@ -259,15 +257,6 @@ impl Modes {
 /// Bodies up to which [`Modes::lowest`] takes every mode densely and keeps the lowest (a
 /// dense eigenproblem of 360 coordinates takes milliseconds).
 pub const DENSE_FOR_LOWEST: usize = 60;
-
-/// A shift for `problem`'s lowest modes: a millionth of the stiffest coordinate's ω² below
-/// zero. Nearer the lowest modes Lanczos would separate them in a smaller basis, but `K − σM`
-/// would be worse conditioned (λ_max/|σ|): on the starshade (λ_max 2e8, lowest 2e-3) a shift
-/// at the lowest mode put its ω² off by 6e-3 where this one agrees with the paired modes'
-/// twins to 1e-7, in 0.3 s.
-fn first_mode_shift(stiffest: f64) -> f64 {
-    -1e-6 * stiffest
-}
 
 /// The rigid motion the hub's unit motions give the other bodies (translations along, and
 /// rotations about, the hub's axes through its centre of mass), `T`, 6(n − 1) × 6: returns

@@ -8,12 +8,11 @@
 //! rediscover the 6 × 6 blocks (docs/linear.md compares the costs).
 
 use crate::dynamics::newton::order::elimination_order;
-use nalgebra::{DVector, SMatrix, SVector};
+use nalgebra::{DMatrix, DVector, SMatrix};
 use std::collections::BTreeMap;
 
 /// A 6 × 6 block.
 pub type Block = SMatrix<f64, 6, 6>;
-type Vec6 = SVector<f64, 6>;
 
 /// A square matrix of 6 × 6 blocks, stored by block row.
 #[derive(Clone, Debug, Default)]
@@ -35,13 +34,17 @@ impl BlockMatrix {
 
     /// `self · x` (x of 6n).
     pub fn mul(&self, x: &DVector<f64>) -> DVector<f64> {
-        let mut y = DVector::zeros(x.len());
-        for (i, row) in self.rows.iter().enumerate() {
-            let mut acc = Vec6::zeros();
-            for (&j, b) in row {
-                acc += b * x.fixed_rows::<6>(6 * j);
-            }
-            y.fixed_rows_mut::<6>(6 * i).copy_from(&acc);
+        let x = DMatrix::from_column_slice(x.len(), 1, x.as_slice());
+        DVector::from_column_slice(self.mul_many(&x).as_slice())
+    }
+
+    /// `self · x` for every column of x (6n rows), six columns at a time as 6 × 6 blocks.
+    pub fn mul_many(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut y = DMatrix::zeros(x.nrows(), x.ncols());
+        for first in (0..x.ncols()).step_by(6) {
+            let xs = node_blocks(x, first);
+            let ys: Vec<Block> = self.rows.iter().map(|row| row.iter().map(|(&j, b)| b * xs[j]).sum()).collect();
+            write_node_blocks(&ys, &mut y, first);
         }
         y
     }
@@ -114,22 +117,47 @@ pub struct Factors {
 impl Factors {
     /// Solves `A x = b`.
     pub fn solve(&self, b: &DVector<f64>) -> DVector<f64> {
-        let mut x = b.clone();
-        for &p in &self.order {
-            let xp: Vec6 = x.fixed_rows::<6>(6 * p).into_owned();
-            for (i, l) in &self.lower[p] {
-                let mut xi = x.fixed_rows_mut::<6>(6 * i);
-                xi -= l * xp;
+        let b = DMatrix::from_column_slice(b.len(), 1, b.as_slice());
+        DVector::from_column_slice(self.solve_many(&b).as_slice())
+    }
+
+    /// Solves `A X = B` for every column of B, six at a time as 6 × 6 blocks (the factors
+    /// read once for six solves, each update a fixed 6 × 6 product).
+    pub fn solve_many(&self, b: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut x = DMatrix::zeros(b.nrows(), b.ncols());
+        for first in (0..b.ncols()).step_by(6) {
+            let mut xs = node_blocks(b, first);
+            for &p in &self.order {
+                let xp = xs[p];
+                for (i, l) in &self.lower[p] {
+                    xs[*i] -= l * xp;
+                }
             }
-        }
-        for &p in self.order.iter().rev() {
-            let mut xp: Vec6 = x.fixed_rows::<6>(6 * p).into_owned();
-            for (j, u) in &self.upper[p] {
-                xp -= u * x.fixed_rows::<6>(6 * j);
+            for &p in self.order.iter().rev() {
+                let mut v = xs[p];
+                for (j, u) in &self.upper[p] {
+                    v -= u * xs[*j];
+                }
+                xs[p] = self.pivots[p] * v;
             }
-            x.fixed_rows_mut::<6>(6 * p).copy_from(&(self.pivots[p] * xp));
+            write_node_blocks(&xs, &mut x, first);
         }
         x
+    }
+}
+
+/// Columns `first..first + 6` of `x` (6n rows) as one 6 × 6 block per node (zero where x
+/// has fewer columns).
+fn node_blocks(x: &DMatrix<f64>, first: usize) -> Vec<Block> {
+    let width = (x.ncols() - first).min(6);
+    (0..x.nrows() / 6).map(|i| Block::from_fn(|r, c| if c < width { x[(6 * i + r, first + c)] } else { 0.0 })).collect()
+}
+
+/// Writes [`node_blocks`]'s blocks back into columns `first..` of `x`.
+fn write_node_blocks(blocks: &[Block], x: &mut DMatrix<f64>, first: usize) {
+    let width = (x.ncols() - first).min(6);
+    for (i, b) in blocks.iter().enumerate() {
+        x.view_mut((6 * i, first), (6, width)).copy_from(&b.columns(0, width));
     }
 }
 
@@ -153,7 +181,8 @@ mod tests {
         a.add(0, 2, &(block(2.0) * 0.05));
         a.add(2, 0, &(block(3.0) * 0.05));
         let b = DVector::from_fn(6 * n, |k, _| (k as f64).cos());
-        let x = a.factor().unwrap().solve(&b);
+        let factors = a.factor().unwrap();
+        let x = factors.solve(&b);
         let mut dense = nalgebra::DMatrix::zeros(6 * n, 6 * n);
         for (i, row) in a.rows.iter().enumerate() {
             for (&j, blk) in row {
@@ -161,6 +190,16 @@ mod tests {
             }
         }
         let reference = dense.lu().solve(&b).unwrap();
-        assert!((x - reference).amax() < 1e-13);
+        assert!((&x - reference).amax() < 1e-13);
+        // Many right-hand sides at once (more than one block of six, the last partial): each
+        // column as its own solve, and the product back to the right-hand sides.
+        let many = DMatrix::from_fn(6 * n, 8, |k, c| ((k * (c + 1)) as f64).cos());
+        let xs = factors.solve_many(&many);
+        for c in 0..8 {
+            let own = factors.solve(&many.column(c).into_owned());
+            assert!((xs.column(c) - own).amax() < 1e-14, "column {c}");
+        }
+        assert!((a.mul_many(&xs) - &many).amax() < 1e-12);
+        assert!((a.mul(&x) - &b).amax() < 1e-12);
     }
 }

@@ -42,6 +42,10 @@ fn seeds() -> Vec<(String, String)> {
     let p = foldsim::generate::Params { duration: 1.0, ..Default::default() };
     out.push(("zfold3".into(), foldsim::generate::zfold(3, &p)));
     out.push(("grid2x3".into(), foldsim::generate::grid(2, 3, &p)));
+    // run.position_tolerance, for the mutations to reach its key.
+    let z = foldsim::generate::zfold(3, &p).replacen("rtol = 1e-8\natol = 1e-8", "position_tolerance = 1e-4", 1);
+    assert!(z.contains("position_tolerance"), "the z-fold's [run] table changed: update this seed");
+    out.push(("zfold3-ptol".into(), z));
     out
 }
 
@@ -191,8 +195,9 @@ fn check(name: &str, text: &str) -> Outcome {
             let m = e.to_string();
             show(&m);
             // A run's errors say when (t = …) and name what stopped it.
-            if m.contains("t = ")
-                && (m.contains("hinge '") || m.contains("body '") || m.contains("steps") || m.contains("pitch"))
+            if (m.contains("t = ")
+                && (m.contains("hinge '") || m.contains("body '") || m.contains("steps") || m.contains("pitch")))
+                || m.contains("run.position_tolerance")
             {
                 Outcome::Located
             } else {
@@ -254,6 +259,20 @@ fn extremes() -> Vec<(String, String)> {
         ("velocity 1e300", "[initial.hinge.h1]", "[initial.hub]\nvelocity = [1e300, 0.0, 0.0]\n\n[initial.hinge.h1]"),
         ("lever 1e308", "position = [0.5, 0.0, 0.0]", "position = [1e308, 0.0, 0.0]"),
         ("max_steps 0", "atol = 1e-8", "atol = 1e-8\nmax_steps = 0"),
+        ("position tolerance 1e-300", "rtol = 1e-8\natol = 1e-8", "position_tolerance = 1e-300"),
+        ("position tolerance 1e300", "rtol = 1e-8\natol = 1e-8", "position_tolerance = 1e300"),
+        ("position tolerance nan", "rtol = 1e-8\natol = 1e-8", "position_tolerance = nan"),
+        ("position tolerance and rtol", "atol = 1e-8", "position_tolerance = 1e-4"),
+        (
+            "position tolerance, generalized-alpha",
+            "integrator = \"dop853\"\nrtol = 1e-8\natol = 1e-8",
+            "integrator = \"generalized-alpha\"\nposition_tolerance = 1e-5",
+        ),
+        (
+            "position tolerance, rk4",
+            "integrator = \"dop853\"\nrtol = 1e-8\natol = 1e-8",
+            "integrator = \"rk4\"\nstep = 1e-3\nposition_tolerance = 1e-5",
+        ),
     ];
     edits
         .iter()

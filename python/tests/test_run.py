@@ -57,6 +57,20 @@ def test_auto_reports_its_methods():
     assert r.report["refactorizations"] == 0
 
 
+def test_position_tolerance_reports_its_estimate():
+    """run.position_tolerance from Python: the report's estimate within what was asked, the
+    output the run of that rtol, and a stepped run refused with the key named."""
+    text = (ROOT / "examples" / "paper-1panel.toml").read_text()
+    text = text.replace("rtol = 1e-12\natol = 1e-12", "position_tolerance = 1e-4")
+    assert "position_tolerance" in text, "the example's [run] table changed: update this test"
+    s = foldsim.from_toml(text, "ptol.toml")
+    a = s.run(columns=["t"]).report["position_accuracy"]
+    assert a["asked"] == 1e-4 and 0 < a["estimated"] <= 1e-4
+    assert len(a["runs"]) >= 2 and a["rtol"] in [r[0] for r in a["runs"]]
+    with pytest.raises(Exception, match="position_tolerance"):
+        s.start()
+
+
 def test_the_gil_is_released_while_it_integrates():
     """Another Python thread keeps running during a run (it would stall with the GIL held)."""
     s = foldsim.load(ROOT / "examples" / "flasher-small.toml")

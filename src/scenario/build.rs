@@ -111,12 +111,35 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
     }
     // No integrator: "auto" (DOP853, and SDIRK4 where stiffness holds DOP853 back).
     let integrator_name = run.integrator.as_ref().map_or("auto", |s| s.get_ref().as_str());
+    // run.position_tolerance sets rtol and atol itself (crate::simulate::accuracy).
+    let position_tolerance = match &run.position_tolerance {
+        Some(x) => Some(positive(ctx, x, "run.position_tolerance", "m")?),
+        None => None,
+    };
     let need = |v: &Option<Spanned<f64>>, key: &str, what: &str| -> Result<f64, ScenarioError> {
-        match v {
-            Some(x) => positive(ctx, x, key, ""),
-            None => Err(ctx.span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{integrator_name}'"))),
+        match (v, position_tolerance) {
+            (Some(x), Some(_)) if key == "run.rtol" || key == "run.atol" => Err(ctx.span(
+                x,
+                format!("'{key}' and 'run.position_tolerance' both given: the position tolerance sets rtol and atol itself; give one or the other"),
+            )),
+            // Replaced run by run; the first finer run's, meanwhile (what a trial runs at).
+            (None, Some(p)) if key == "run.rtol" || key == "run.atol" => {
+                use crate::simulate::accuracy::{FIRST_GUESS, FIRST_GUESS_EXPLICIT, LOOSEST, TIGHTEST};
+                let guess = if matches!(integrator_name, "dop853" | "dopri5") { FIRST_GUESS_EXPLICIT } else { FIRST_GUESS };
+                Ok((guess * p).clamp(TIGHTEST, LOOSEST))
+            }
+            (Some(x), _) => positive(ctx, x, key, ""),
+            (None, _) => Err(ctx.span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{integrator_name}'"))),
         }
     };
+    if let Some(x) = &run.position_tolerance
+        && (integrator_name == "rk4" || (integrator_name == "generalized-alpha" && run.step.is_some()))
+    {
+        return Err(ctx.span(
+            x,
+            format!("'run.position_tolerance' needs an adaptive integrator (\"auto\", \"dop853\", \"dopri5\", \"sdirk4\", or \"generalized-alpha\" without run.step); '{integrator_name}' at a fixed run.step has no tolerance to set"),
+        ));
+    }
     let forbid = |v: &Option<Spanned<f64>>, key: &str| -> Result<(), ScenarioError> {
         match v {
             Some(x) => Err(ctx.span(x, format!("'{key}' does not apply to integrator '{integrator_name}'"))),
@@ -237,6 +260,7 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
         max_steps,
         release_at,
         hinge_loads: false,
+        position_tolerance,
     };
 
     // Bodies.

@@ -39,6 +39,7 @@ pub(super) struct RawRun {
     pub(super) error_norm: Option<Spanned<String>>,
     pub(super) rtol: Option<Spanned<f64>>,
     pub(super) atol: Option<Spanned<f64>>,
+    pub(super) position_tolerance: Option<Spanned<f64>>,
     pub(super) step: Option<Spanned<f64>>,
     pub(super) rho_inf: Option<Spanned<f64>>,
     pub(super) max_steps: Option<Spanned<i64>>,

@@ -7,6 +7,7 @@
 //!
 //! - [`settings`]: what a run is asked to do ([`RunSettings`], [`Integrator`]);
 //! - [`run`]: [`simulate`], which streams rows to a [`Sink`];
+//! - [`accuracy`]: a run held to a tolerance in the bodies' positions (`run.position_tolerance`), by running it again tighter;
 //! - [`stepper`]: a run advanced piece by piece ([`Stepper`]), for a controller outside;
 //! - [`stream`]: the step handler a run and a stepped run share;
 //! - [`stopped`]: why an integration stopped, in the user's terms;
@@ -15,6 +16,7 @@
 //! - [`report`]: what it reports ([`RunReport`], [`Drift`]) or why it stopped ([`SimError`]);
 //! - [`estimate`]: a run's wall time, projected from a short trial of it.
 
+pub mod accuracy;
 pub mod estimate;
 pub mod pace;
 pub mod report;
@@ -26,7 +28,7 @@ pub mod stream;
 pub mod switching;
 
 pub use pace::Progress;
-pub use report::{Drift, MethodSpan, RunReport, SimError};
+pub use report::{Drift, MethodSpan, PositionAccuracy, RunReport, SimError};
 pub use run::{Sink, simulate};
 pub use settings::{Integrator, RunSettings};
 pub use stepper::Stepper;

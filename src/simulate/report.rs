@@ -123,6 +123,25 @@ pub struct RunReport {
     /// Per actuator of the hub's control (in the model's order), what it did: its largest
     /// effort and momentum, and when its torque or momentum limit cut it.
     pub actuators: Vec<crate::dynamics::actuators::ActuatorRecord>,
+    /// With `run.position_tolerance`: what was asked and estimated ([`super::accuracy`]).
+    pub position_accuracy: Option<PositionAccuracy>,
+}
+
+/// What a run held to `run.position_tolerance` estimated ([`super::accuracy`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositionAccuracy {
+    /// The tolerance asked, m.
+    pub asked: f64,
+    /// The output run's estimated largest error in any body's centre of mass over its rows, m
+    /// (N components).
+    pub estimated: f64,
+    /// The largest difference between the output run and its check (a run at a quarter of
+    /// its tolerance), m.
+    pub difference: f64,
+    /// The output run's rtol = atol.
+    pub rtol: f64,
+    /// Every run made, in order: (rtol = atol, wall time s).
+    pub runs: Vec<(f64, f64)>,
 }
 
 /// Why a run stopped early.

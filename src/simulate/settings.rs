@@ -122,6 +122,11 @@ pub struct RunSettings {
     /// lock solved for per row, so only when a hinge-load column is written or measured (set
     /// from [`crate::observe::Selection::has_hinge_loads`]).
     pub hinge_loads: bool,
+    /// The largest error asked in any body's centre of mass over the output rows, m
+    /// (`run.position_tolerance`): the run is made at tolerances the error estimate of
+    /// [`super::accuracy`] chooses, the integrator's rtol and atol replaced. `None`: the
+    /// integrator's own tolerances.
+    pub position_tolerance: Option<f64>,
 }
 
 /// The most output rows a run writes (`duration / output_step`): ten million rows of even the

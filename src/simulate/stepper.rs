@@ -45,6 +45,11 @@ impl<'m> Stepper<'m> {
     /// rows come at its output times. Commands for bodies need a model made
     /// [`Model::commandable`] before it is built into a run.
     pub fn start(model: &'m Model, ic: &InitialConditions, settings: &RunSettings) -> Result<Self, SimError> {
+        if let Some(p) = settings.position_tolerance {
+            return Err(SimError::Physics(format!(
+                "run.position_tolerance = {p:e} m holds a whole run to it by running it again tighter; a stepped run cannot be: set run.rtol and run.atol instead"
+            )));
+        }
         let (dynamics, y, state) = prepare(model, ic, settings)?;
         Ok(Self {
             dynamics,

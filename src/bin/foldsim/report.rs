@@ -63,6 +63,21 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             "  note: from t = {t:.4} s the explicit steps were limited by stability, not accuracy: stiff hinges; integrator = \"sdirk4\" (implicit) suits this run better"
         );
     }
+    if let Some(a) = &r.position_accuracy {
+        let tolerances: Vec<String> = a.runs.iter().map(|(t, w)| format!("{t:.1e} ({w:.2} s)")).collect();
+        outln!(
+            "  position error   estimated {:.2e} m in any body's centre of mass over the rows (run.position_tolerance = {:.2e} m)",
+            a.estimated,
+            a.asked
+        );
+        outln!(
+            "                   the output's rtol = atol = {:.1e}; it differs by {:.2e} m from its check at a quarter of that; {} runs: {}",
+            a.rtol,
+            a.difference,
+            a.runs.len(),
+            tolerances.join(", ")
+        );
+    }
     outln!("  output rows      {} -> {}", r.rows, csv.display());
     outln!("  drift over the run (max |x(t) - x(0)|):");
     outln!("    linear momentum P   {:.3e} kg·m/s  ({:.3e} of Σ m|v|)", d.momentum, rel(d.momentum, d.momentum_scale));

@@ -176,8 +176,16 @@ pub(crate) fn run(
         Err(e) => {
             let partial = sink.partial_path().to_path_buf();
             drop(sink);
-            let mut message =
-                format!("{}: {e}\nthe rows written before it stopped are in {}", path.display(), partial.display());
+            let mut message = if scenario.settings.position_tolerance.is_some() {
+                // Nothing was written: only an accepted run's rows are.
+                let _ = std::fs::remove_file(&partial);
+                format!(
+                    "{}: {e}\nno rows written: a run held to run.position_tolerance writes only the run it accepts",
+                    path.display()
+                )
+            } else {
+                format!("{}: {e}\nthe rows written before it stopped are in {}", path.display(), partial.display())
+            };
             if let Some(old) = stale.filter(|old| *old != partial) {
                 message.push_str(&format!("\n{} is an earlier run's complete output, left as it was", old.display()));
             }

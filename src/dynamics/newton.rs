@@ -31,6 +31,7 @@ use crate::model::Model;
 use crate::state::{BODY_STATE_LEN as B, OMEGA, QUAT, VEL};
 use nalgebra::{SMatrix, SVector};
 use std::collections::BTreeMap;
+use symbolic::Symbolic;
 
 /// Pose numbers per body (R, q).
 const X: usize = 7;
@@ -123,6 +124,10 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     /// Per eliminated body p: the inverse of the pivot block, its row blocks U[p][j] and
     /// multipliers L[i][p] = S[i][p] S[p][p]⁻¹, for neighbours later in the order.
     pivots: Vec<Block>,
+    /// The elimination's patterns for the last orders factored, and the blocks of the last
+    /// factorization by slot (`symbolic.rs`).
+    symbolic: Vec<Symbolic>,
+    values: Vec<Block>,
     upper: Vec<Vec<(usize, Block)>>,
     lower: Vec<Vec<(usize, Block)>>,
     evaluations: usize,
@@ -192,6 +197,8 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             order: Vec::new(),
             position: Vec::new(),
             pivots: Vec::new(),
+            symbolic: Vec::new(),
+            values: Vec::new(),
             upper: Vec::new(),
             lower: Vec::new(),
             evaluations: 0,
@@ -341,6 +348,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         for (k, &p) in order.iter().enumerate() {
             position[p] = k;
         }
+        self.symbolic.clear();
         self.jac_x = neighbours.iter().map(|v| vec![PoseBlock::zeros(); v.len()]).collect();
         self.jac_v = neighbours.iter().map(|v| vec![Block::zeros(); v.len()]).collect();
         self.neighbours = neighbours;
@@ -372,17 +380,23 @@ impl<S: OdeSystem + ?Sized> GraphNewton<'_, S> {
     /// [`NewtonMatrix::prepare`]. What [`NewtonMatrix::refactor`] factors; public for the
     /// benchmark that factors it with a general sparse LU (`benches/sparse_lu.rs`).
     pub fn twist_blocks(&self, h_gamma: f64) -> Vec<BTreeMap<usize, Block>> {
+        let mut s: Vec<BTreeMap<usize, Block>> = vec![BTreeMap::new(); self.nb + self.groups.len()];
+        self.twist_entries(h_gamma, &mut |i, j, b| *s[i].entry(j).or_insert_with(Block::zeros) += b);
+        s
+    }
+
+    /// [`Self::twist_blocks`]'s blocks one at a time, as (row, column, block) to be added:
+    /// what both the maps and the numeric refactorization are filled from.
+    fn twist_entries(&self, h_gamma: f64, add: &mut dyn FnMut(usize, usize, &Block)) {
         let p_rates: Vec<SMatrix<f64, X, V>> = self.pose.iter().map(|p| p.p_rates(h_gamma)).collect();
         // S blocks; the elimination adds its fill.
-        let nodes = self.nb + self.groups.len();
-        let mut s: Vec<BTreeMap<usize, Block>> = vec![BTreeMap::new(); nodes];
-        for (i, row) in s.iter_mut().enumerate().take(self.nb) {
+        for i in 0..self.nb {
             for (slot, &j) in self.neighbours[i].iter().enumerate() {
                 let mut blk = -self.jac_v[i][slot] * h_gamma - self.jac_x[i][slot] * p_rates[j] * (h_gamma * h_gamma);
                 if i == j {
                     blk += Block::identity();
                 }
-                row.insert(j, blk);
+                add(i, j, &blk);
             }
         }
         // Locked hinges: J in their rows, −M⁻¹Jᵀ in their bodies' rows; the rows and columns
@@ -396,7 +410,7 @@ impl<S: OdeSystem + ?Sized> GraphNewton<'_, S> {
             for d in k..V {
                 diagonal[(d, d)] = 1.0;
             }
-            s[node].insert(node, diagonal);
+            add(node, node, &diagonal);
             for (side, b) in [p, c].into_iter().enumerate() {
                 let (mut row_block, mut column_block) = (Block::zeros(), Block::zeros());
                 for (r, row) in self.group_rows[first..first + k].iter().enumerate() {
@@ -407,12 +421,11 @@ impl<S: OdeSystem + ?Sized> GraphNewton<'_, S> {
                         column_block[(col, r)] = -row.m_inv_j[side][col];
                     }
                 }
-                *s[node].entry(b).or_insert_with(Block::zeros) += row_block;
-                *s[b].entry(node).or_insert_with(Block::zeros) += column_block;
+                add(node, b, &row_block);
+                add(b, node, &column_block);
             }
             first += k;
         }
-        s
     }
 }
 
@@ -493,40 +506,31 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
 
     fn refactor(&mut self, h_gamma: f64) -> bool {
         self.h_gamma = h_gamma;
-        let nodes = self.nb + self.groups.len();
-        let mut s = self.twist_blocks(h_gamma);
-        let position = &self.position;
-        self.pivots = vec![Block::zeros(); nodes];
-        self.upper = vec![Vec::new(); nodes];
-        self.lower = vec![Vec::new(); nodes];
-        for &p in &self.order {
-            let Some(pivot) = s[p].get(&p).copied() else { return false };
-            let lu = pivot.lu();
-            if !lu.is_invertible() {
-                return false;
-            }
-            let upper: Vec<(usize, Block)> =
-                s[p].iter().filter(|(j, _)| position[**j] > position[p]).map(|(j, b)| (*j, *b)).collect();
-            let mut lower = Vec::with_capacity(upper.len());
-            let pivot_t = pivot.transpose().lu();
-            for &(i, _) in &upper {
-                let Some(s_ip) = s[i].get(&p).copied() else { continue };
-                // L = S[i][p] S[p][p]⁻¹, from S[p][p]ᵀ Lᵀ = S[i][p]ᵀ.
-                let Some(lt) = pivot_t.solve(&s_ip.transpose()) else { return false };
-                let l = lt.transpose();
-                for (j, u) in &upper {
-                    let entry = s[i].entry(*j).or_insert_with(Block::zeros);
-                    *entry -= l * u;
+        // The elimination's pattern for this order and these locks, found once
+        // (`symbolic.rs`); the two last are kept (the orders with and without the locks).
+        let k = match self.symbolic.iter().position(|s| s.fits(&self.order, &self.groups)) {
+            Some(k) => k,
+            None => {
+                let mut pattern = vec![Vec::new(); self.nb + self.groups.len()];
+                self.twist_entries(h_gamma, &mut |i, j, _| pattern[i].push(j));
+                let Some(s) = Symbolic::new(&pattern, &self.order, &self.position, &self.groups) else { return false };
+                if self.symbolic.len() == 2 {
+                    self.symbolic.remove(0);
                 }
-                lower.push((i, l));
+                self.symbolic.push(s);
+                self.symbolic.len() - 1
             }
-            // The pivot's inverse, so each solve is a product (6×6, factored above).
-            let Some(inverse) = lu.try_inverse() else { return false };
-            self.pivots[p] = inverse;
-            self.upper[p] = upper;
-            self.lower[p] = lower;
-        }
-        true
+        };
+        let mut values = std::mem::take(&mut self.values);
+        values.clear();
+        values.resize(self.symbolic[k].slots(), Block::zeros());
+        let symbolic = &self.symbolic[k];
+        self.twist_entries(h_gamma, &mut |i, j, b| {
+            values[symbolic.slot(i, j).expect("the pattern holds every block")] += b;
+        });
+        let ok = self.symbolic[k].eliminate(&mut values, &mut self.pivots, &mut self.upper, &mut self.lower);
+        self.values = values;
+        ok
     }
 
     fn solve(&mut self, rhs: &mut [f64]) {
@@ -591,5 +595,6 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
 }
 
 pub mod order;
+mod symbolic;
 #[cfg(test)]
 mod tests;

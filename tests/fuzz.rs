@@ -194,10 +194,12 @@ fn check(name: &str, text: &str) -> Outcome {
         Ok(Err(e)) => {
             let m = e.to_string();
             show(&m);
-            // A run's errors say when (t = …) and name what stopped it.
+            // A run's errors say when (t = …) and name what stopped it; one refused before
+            // its first step (a loop of locked hinges the restraint closed) names the hinges.
             if (m.contains("t = ")
                 && (m.contains("hinge '") || m.contains("body '") || m.contains("steps") || m.contains("pitch")))
                 || m.contains("run.position_tolerance")
+                || m.contains("hinge '")
             {
                 Outcome::Located
             } else {

@@ -20,9 +20,10 @@
 //! memory until then; nothing is written before). Otherwise the next candidate's tolerance
 //! is aimed at 2/3 of the tolerance by the power law, with the exponent the last two
 //! candidates show (within [0.4, 2]; 2/3 at first), at most 1,000 times tighter at once; a
-//! check looser than that aim becomes the next candidate itself. A run that fails, or a
-//! tolerance not reached within [`MAX_RUNS`] runs or at [`TIGHTEST`], stops with what was
-//! estimated.
+//! check looser than that aim becomes the next candidate itself. A run that fails (a loose
+//! tolerance can make a hysteresis law's events chatter) is made again at a tenth of its
+//! tolerance while runs are left. A tolerance not reached within [`MAX_RUNS`] runs or at
+//! [`TIGHTEST`] stops with what was estimated.
 
 use super::pace::ProgressFn;
 use super::report::{PositionAccuracy, RunReport, SimError};
@@ -73,6 +74,26 @@ struct Trial {
     tolerance: f64,
     rows: Vec<Observation>,
     report: RunReport,
+}
+
+/// Runs a simulation from `ic`, streaming every output row to `sink`. `progress` is called
+/// after each accepted step with the time reached, the step and what holds it back
+/// ([`super::Progress`]); returning `ControlFlow::Break` stops the run with
+/// [`SimError::Interrupted`] (how a Ctrl-C reaches it).
+///
+/// With [`RunSettings::position_tolerance`] the run is made more than once
+/// (this module), and only the accepted one's rows reach `sink`.
+pub fn simulate(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    sink: &mut dyn Sink,
+    progress: Option<&mut ProgressFn<'_>>,
+) -> Result<RunReport, SimError> {
+    match settings.position_tolerance {
+        Some(tolerance) => simulate_to_position(model, ic, settings, tolerance, sink, progress),
+        None => simulate_once(model, ic, settings, sink, progress),
+    }
 }
 
 /// The integrator with `rtol = atol = tolerance`.
@@ -138,15 +159,45 @@ pub fn simulate_to_position(
     // the tolerance the power law says (the check itself, when that is looser than it).
     // (Candidates no tighter than RATIO × TIGHTEST, so that every check is RATIO tighter.)
     let clamp = |t: f64| t.clamp(RATIO * TIGHTEST, LOOSEST);
-    let mut candidate = run(clamp(first_guess(settings.integrator) * tolerance))?;
+    // Every run made: (tolerance, wall s).
+    let mut runs: Vec<(f64, f64)> = Vec::new();
+    // A run at `tol`, or where it fails (a loose tolerance can: a hysteresis law's events
+    // chattering, a step budget spent on them), at a tenth of it while runs are left; the
+    // last failure is returned with the tolerances tried.
+    let mut attempt = |tol: f64, runs: &mut Vec<(f64, f64)>| -> Result<Trial, SimError> {
+        let mut tol = tol;
+        loop {
+            let start = std::time::Instant::now();
+            match run(tol) {
+                Ok(trial) => {
+                    runs.push((tol, trial.report.wall_seconds));
+                    return Ok(trial);
+                }
+                Err(e) => {
+                    runs.push((tol, start.elapsed().as_secs_f64()));
+                    let retry = matches!(e, SimError::Integrator { .. } | SimError::Physics(_));
+                    if retry && runs.len() < MAX_RUNS && tol / 10.0 >= TIGHTEST {
+                        tol /= 10.0;
+                        continue;
+                    }
+                    let tried = runs.iter().map(|r| format!("{:.1e}", r.0)).collect::<Vec<_>>().join(", ");
+                    let note = format!(" (run.position_tolerance: runs at rtol = atol {tried})");
+                    return Err(match e {
+                        SimError::Integrator { t, message } => SimError::Integrator { t, message: message + &note },
+                        SimError::Physics(m) => SimError::Physics(m + &note),
+                        other => other,
+                    });
+                }
+            }
+        }
+    };
+    let mut candidate = attempt(clamp(first_guess(settings.integrator) * tolerance), &mut runs)?;
     // The last rejected candidate's tolerance and estimated error.
     let mut last: Option<(f64, f64)> = None;
-    let mut runs = vec![(candidate.tolerance, candidate.report.wall_seconds)];
     loop {
-        let check = run(candidate.tolerance / RATIO)?;
-        runs.push((check.tolerance, check.report.wall_seconds));
+        let check = attempt(candidate.tolerance / RATIO, &mut runs)?;
         let difference = largest_difference(&candidate.rows, &check.rows);
-        let estimated = coarser_error(difference, RATIO);
+        let estimated = coarser_error(difference, candidate.tolerance / check.tolerance);
         if estimated <= tolerance {
             for row in &candidate.rows {
                 sink.record(row).map_err(SimError::Output)?;
@@ -184,8 +235,7 @@ pub fn simulate_to_position(
         if aim >= check.tolerance && check.tolerance >= RATIO * TIGHTEST {
             candidate = check;
         } else {
-            candidate = run(aim)?;
-            runs.push((candidate.tolerance, candidate.report.wall_seconds));
+            candidate = attempt(aim, &mut runs)?;
         }
     }
 }

@@ -3,7 +3,7 @@
 //! ([`Trend`]). A deployment's step size changes as it opens, so the projection is a guide,
 //! and says how much of the run it saw.
 
-use super::run::simulate;
+use super::run::simulate_once as simulate;
 use super::settings::RunSettings;
 use crate::kinematics::InitialConditions;
 use crate::model::Model;

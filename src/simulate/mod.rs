@@ -27,8 +27,9 @@ pub mod stopped;
 pub mod stream;
 pub mod switching;
 
+pub use accuracy::simulate;
 pub use pace::Progress;
 pub use report::{Drift, MethodSpan, PositionAccuracy, RunReport, SimError};
-pub use run::{Sink, simulate};
+pub use run::Sink;
 pub use settings::{Integrator, RunSettings};
 pub use stepper::Stepper;

@@ -17,27 +17,7 @@ use std::time::Instant;
 
 pub use super::stream::Sink;
 
-/// Runs a simulation from `ic`, streaming every output row to `sink`. `progress` is called
-/// after each accepted step with the time reached, the step and what holds it back
-/// ([`super::Progress`]); returning `ControlFlow::Break` stops the run with
-/// [`SimError::Interrupted`] (how a Ctrl-C reaches it).
-///
-/// With [`RunSettings::position_tolerance`] the run is made more than once
-/// ([`super::accuracy`]), and only the accepted one's rows reach `sink`.
-pub fn simulate(
-    model: &Model,
-    ic: &InitialConditions,
-    settings: &RunSettings,
-    sink: &mut dyn Sink,
-    progress: Option<&mut ProgressFn<'_>>,
-) -> Result<RunReport, SimError> {
-    match settings.position_tolerance {
-        Some(tolerance) => super::accuracy::simulate_to_position(model, ic, settings, tolerance, sink, progress),
-        None => simulate_once(model, ic, settings, sink, progress),
-    }
-}
-
-/// [`simulate`] at the integrator's own tolerances.
+/// [`super::simulate`] at the integrator's own tolerances.
 pub(super) fn simulate_once(
     model: &Model,
     ic: &InitialConditions,

@@ -126,25 +126,20 @@ impl Symbolic {
         lower.resize(n, Vec::new());
         for &p in &self.order {
             let pivot = values[self.pivot[p]];
-            let lu = pivot.lu();
-            if !lu.is_invertible() {
-                return false;
-            }
-            let pivot_t = pivot.transpose().lu();
+            // The pivot's inverse (by LU): the multipliers are products with it, and so is
+            // each solve's step.
+            let Some(inverse) = pivot.lu().try_inverse() else { return false };
             upper[p].clear();
             upper[p].extend(self.upper[p].iter().map(|&(j, s)| (j, values[s])));
             lower[p].clear();
             for row in &self.lower[p] {
-                // L = S[i][p] S[p][p]⁻¹, from S[p][p]ᵀ Lᵀ = S[i][p]ᵀ.
-                let Some(lt) = pivot_t.solve(&values[row.slot].transpose()) else { return false };
-                let l = lt.transpose();
+                // L = S[i][p] S[p][p]⁻¹.
+                let l = values[row.slot] * inverse;
                 for ((_, u), &t) in upper[p].iter().zip(&row.targets) {
                     values[t] -= l * u;
                 }
                 lower[p].push((row.row, l));
             }
-            // The pivot's inverse, so each solve is a product (6×6, factored above).
-            let Some(inverse) = lu.try_inverse() else { return false };
             pivots[p] = inverse;
         }
         true

@@ -17,7 +17,6 @@ Usage (from the repository root, after `cargo build --release`):
 Only the Python standard library is needed.
 """
 import argparse
-import csv
 import os
 import re
 import subprocess
@@ -25,12 +24,10 @@ import sys
 import tempfile
 import time
 
+from auto_examples import largest_difference, load, positions  # same directory
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FOLDSIM = os.environ.get("FOLDSIM", os.path.join(ROOT, "target", "release", "foldsim"))
-
-
-def load():
-    return open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else ["?"] * 3
 
 
 TOL = re.compile(r"^(rtol|atol)\s*=.*$", re.M)
@@ -67,12 +64,6 @@ def run(path, csv_path, timeout):
     return wall, p.stdout, None
 
 
-def positions(csv_path):
-    with open(csv_path) as f:
-        rows = list(csv.reader(f))
-    return rows[0], [[float(x) for x in r] for r in rows[1:]]
-
-
 def size(csv_path):
     head, rows = positions(csv_path)
     worst = 0.0
@@ -80,17 +71,6 @@ def size(csv_path):
         lo = [min(r[k + j] for k in range(1, len(head), 3)) for j in range(3)]
         hi = [max(r[k + j] for k in range(1, len(head), 3)) for j in range(3)]
         worst = max(worst, sum((h - l) ** 2 for h, l in zip(hi, lo)) ** 0.5)
-    return worst
-
-
-def largest_difference(a, b):
-    (ha, ra), (hb, rb) = positions(a), positions(b)
-    idx = [hb.index(c) for c in ha]
-    worst = 0.0
-    for x, y in zip(ra, rb):
-        y = [y[i] for i in idx]
-        for k in range(1, len(ha), 3):
-            worst = max(worst, sum((x[k + j] - y[k + j]) ** 2 for j in range(3)) ** 0.5)
     return worst
 
 

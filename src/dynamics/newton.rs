@@ -595,6 +595,6 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
 }
 
 pub mod order;
-mod symbolic;
+pub(crate) mod symbolic;
 #[cfg(test)]
 mod tests;

@@ -1,13 +1,15 @@
 //! A matrix of 6 × 6 blocks on the bodies' coupling graph (a hinge or a contact between two
 //! bodies gives a block), factored by block Gaussian elimination in a minimum-degree order
-//! (crate::dynamics::newton::order: no fill for trees, fill along loops), dense LU inside the
-//! pivot blocks: the solves of the shift-invert eigen-solver ([`super::lanczos`]).
+//! (crate::dynamics::newton::order: no fill for trees, fill along loops), each pivot block
+//! inverted by LU, by the Newton matrix's own elimination (crate::dynamics::newton::symbolic):
+//! the solves of the shift-invert eigen-solver ([`super::lanczos`]).
 //!
 //! Written here rather than taken from a sparse library: the structure is the one the Newton
 //! matrix already factors this way (crate::dynamics::newton), and a general sparse LU would
 //! rediscover the 6 × 6 blocks (docs/linear.md compares the costs).
 
 use crate::dynamics::newton::order::elimination_order;
+use crate::dynamics::newton::symbolic::Symbolic;
 use nalgebra::{DMatrix, DVector, SMatrix};
 use std::collections::BTreeMap;
 
@@ -72,33 +74,30 @@ impl BlockMatrix {
         Some(out)
     }
 
-    /// Its LU factors in a minimum-degree order; `None` if a pivot block is singular.
+    /// Its LU factors in a minimum-degree order; `None` if a pivot block is singular. The
+    /// elimination is the Newton matrix's (crate::dynamics::newton::symbolic): its pattern,
+    /// then its numbers.
     pub fn factor(&self) -> Option<Factors> {
-        let n = self.rows.len();
-        let neighbours: Vec<Vec<usize>> = self.rows.iter().map(|r| r.keys().copied().collect()).collect();
-        let order = elimination_order(&neighbours, &[]);
-        let mut rows = self.rows.clone();
-        let mut done = vec![false; n];
-        let mut pivots = vec![Block::zeros(); n];
-        let mut lower: Vec<Vec<(usize, Block)>> = vec![Vec::new(); n];
-        let mut upper: Vec<Vec<(usize, Block)>> = vec![Vec::new(); n];
-        for &p in &order {
-            done[p] = true;
-            let inverse = rows[p].get(&p).copied().unwrap_or_else(Block::zeros).try_inverse()?;
-            let up: Vec<(usize, Block)> = rows[p].iter().filter(|(j, _)| !done[**j]).map(|(j, b)| (*j, *b)).collect();
-            let column: Vec<(usize, Block)> =
-                (0..n).filter(|&i| !done[i]).filter_map(|i| rows[i].get(&p).map(|b| (i, b * inverse))).collect();
-            for (i, l) in &column {
-                for (j, u) in &up {
-                    *rows[*i].entry(*j).or_insert_with(Block::zeros) -= l * u;
-                }
-                rows[*i].remove(&p);
-            }
-            pivots[p] = inverse;
-            upper[p] = up;
-            lower[p] = column;
+        let pattern: Vec<Vec<usize>> = self.rows.iter().map(|r| r.keys().copied().collect()).collect();
+        let order = elimination_order(&pattern, &[]);
+        let mut position = vec![0; pattern.len()];
+        for (k, &p) in order.iter().enumerate() {
+            position[p] = k;
         }
-        Some(Factors { order, pivots, lower, upper })
+        let symbolic = Symbolic::new(&pattern, &order, &position, &[])?;
+        let mut values = vec![Block::zeros(); symbolic.slots()];
+        for (i, row) in self.rows.iter().enumerate() {
+            for (&j, b) in row {
+                values[symbolic.slot(i, j)?] = *b;
+            }
+        }
+        let (mut pivots, mut upper, mut lower) = (Vec::new(), Vec::new(), Vec::new());
+        symbolic.eliminate(&mut values, &mut pivots, &mut upper, &mut lower).then_some(Factors {
+            order,
+            pivots,
+            lower,
+            upper,
+        })
     }
 }
 

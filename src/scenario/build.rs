@@ -122,12 +122,8 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
                 x,
                 format!("'{key}' and 'run.position_tolerance' both given: the position tolerance sets rtol and atol itself; give one or the other"),
             )),
-            // Replaced run by run; the first finer run's, meanwhile (what a trial runs at).
-            (None, Some(p)) if key == "run.rtol" || key == "run.atol" => {
-                use crate::simulate::accuracy::{FIRST_GUESS, FIRST_GUESS_EXPLICIT, LOOSEST, TIGHTEST};
-                let guess = if matches!(integrator_name, "dop853" | "dopri5") { FIRST_GUESS_EXPLICIT } else { FIRST_GUESS };
-                Ok((guess * p).clamp(TIGHTEST, LOOSEST))
-            }
+            // Replaced run by run; the first candidate's below, meanwhile (what a trial runs at).
+            (None, Some(p)) if key == "run.rtol" || key == "run.atol" => Ok(p),
             (Some(x), _) => positive(ctx, x, key, ""),
             (None, _) => Err(ctx.span(&raw.run, format!("[run] needs '{key}' ({what}) for integrator '{integrator_name}'"))),
         }
@@ -231,6 +227,13 @@ fn build(ctx: &Ctx<'_>, raw: RawScenario) -> Result<Scenario, ScenarioError> {
                 None => ctx.span(&raw.run, message),
             });
         }
+    };
+    let integrator = match position_tolerance {
+        Some(p) => crate::simulate::accuracy::with_tolerance(
+            integrator,
+            crate::simulate::accuracy::first_tolerance(integrator, p),
+        ),
+        None => integrator,
     };
     let max_steps = match &run.max_steps {
         None => None,

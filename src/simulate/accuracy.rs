@@ -50,12 +50,20 @@ pub const FIRST_GUESS: f64 = 0.1;
 /// (1e-2–0.2 of it in metres on the examples' structures at ε/10).
 pub const FIRST_GUESS_EXPLICIT: f64 = 1.0;
 
-/// The first candidate's tolerance for `integrator`, over the position tolerance in metres.
-pub fn first_guess(integrator: Integrator) -> f64 {
-    match integrator {
+/// The first candidate's rtol = atol for `integrator` and a position tolerance of
+/// `tolerance` m (also what a scenario's trial runs at).
+pub fn first_tolerance(integrator: Integrator, tolerance: f64) -> f64 {
+    let guess = match integrator {
         Integrator::Dop853 { .. } | Integrator::Dopri5 { .. } => FIRST_GUESS_EXPLICIT,
         _ => FIRST_GUESS,
-    }
+    };
+    clamp(guess * tolerance)
+}
+
+/// A candidate's tolerance kept within [RATIO × TIGHTEST, LOOSEST], so that every check is
+/// RATIO tighter and still a run's.
+fn clamp(tolerance: f64) -> f64 {
+    tolerance.clamp(RATIO * TIGHTEST, LOOSEST)
 }
 
 /// The most runs made before giving up.
@@ -97,7 +105,7 @@ pub fn simulate(
 }
 
 /// The integrator with `rtol = atol = tolerance`.
-fn with_tolerance(integrator: Integrator, tolerance: f64) -> Integrator {
+pub fn with_tolerance(integrator: Integrator, tolerance: f64) -> Integrator {
     let (rtol, atol) = (tolerance, tolerance);
     match integrator {
         Integrator::Dop853 { .. } => Integrator::Dop853 { rtol, atol },
@@ -157,8 +165,6 @@ pub fn simulate_to_position(
     // Candidates and their checks: a candidate at τ is checked by a run at τ / RATIO, and its
     // error estimated from their difference; a candidate off the mark is replaced by one at
     // the tolerance the power law says (the check itself, when that is looser than it).
-    // (Candidates no tighter than RATIO × TIGHTEST, so that every check is RATIO tighter.)
-    let clamp = |t: f64| t.clamp(RATIO * TIGHTEST, LOOSEST);
     // Every run made: (tolerance, wall s).
     let mut runs: Vec<(f64, f64)> = Vec::new();
     // A run at `tol`, or where it fails (a loose tolerance can: a hysteresis law's events
@@ -191,7 +197,7 @@ pub fn simulate_to_position(
             }
         }
     };
-    let mut candidate = attempt(clamp(first_guess(settings.integrator) * tolerance), &mut runs)?;
+    let mut candidate = attempt(first_tolerance(settings.integrator, tolerance), &mut runs)?;
     // The last rejected candidate's tolerance and estimated error.
     let mut last: Option<(f64, f64)> = None;
     loop {

@@ -22,7 +22,7 @@ struct Lower {
 
 /// The pattern of the factors of a block matrix in one elimination order.
 #[derive(Clone, Debug)]
-pub(super) struct Symbolic {
+pub(crate) struct Symbolic {
     /// The order it was found for, and the locked hinges' nodes it had.
     order: Vec<usize>,
     groups: Vec<(usize, usize, usize)>,
@@ -42,7 +42,7 @@ impl Symbolic {
     /// The pattern of eliminating a matrix whose blocks are at `pattern` (per row, the
     /// columns, any order) in `order` (`position[p]` = p's place in it); `groups` is kept to
     /// recognise the structure again. `None` if a node has no diagonal block.
-    pub(super) fn new(
+    pub(crate) fn new(
         pattern: &[Vec<usize>],
         order: &[usize],
         position: &[usize],
@@ -95,17 +95,17 @@ impl Symbolic {
     }
 
     /// Whether this is the pattern of `order` with `groups`' nodes.
-    pub(super) fn fits(&self, order: &[usize], groups: &[(usize, usize, usize)]) -> bool {
+    pub(crate) fn fits(&self, order: &[usize], groups: &[(usize, usize, usize)]) -> bool {
         self.order == order && self.groups == groups
     }
 
     /// Number of slots (blocks of the factors, fill included).
-    pub(super) fn slots(&self) -> usize {
+    pub(crate) fn slots(&self) -> usize {
         self.slots
     }
 
     /// The slot of block (i, j), if the pattern has it.
-    pub(super) fn slot(&self, i: usize, j: usize) -> Option<usize> {
+    pub(crate) fn slot(&self, i: usize, j: usize) -> Option<usize> {
         self.row_slots[i].binary_search_by_key(&j, |e| e.0).ok().map(|k| self.row_slots[i][k].1)
     }
 
@@ -113,7 +113,7 @@ impl Symbolic {
     /// its pivot block's inverse in `pivots`, the multipliers `L[i][p]` in `lower[p]` and
     /// its row's later blocks `U[p][j]` in `upper[p]` (each resized to the node count).
     /// False if a pivot block is singular.
-    pub(super) fn eliminate(
+    pub(crate) fn eliminate(
         &self,
         values: &mut [Block],
         pivots: &mut Vec<Block>,

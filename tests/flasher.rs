@@ -40,6 +40,7 @@ fn laws(c: f64) -> FlasherLaws {
         k_rotation: 1e3,
         c_rotation: 0.1 * c,
         k_stop: 1e4,
+        ..FlasherLaws::default()
     }
 }
 

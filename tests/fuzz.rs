@@ -46,6 +46,17 @@ fn seeds() -> Vec<(String, String)> {
     let z = foldsim::generate::zfold(3, &p).replacen("rtol = 1e-8\natol = 1e-8", "position_tolerance = 1e-4", 1);
     assert!(z.contains("position_tolerance"), "the z-fold's [run] table changed: update this seed");
     out.push(("zfold3-ptol".into(), z));
+    // A small thick flasher: contact, crease stops and membrane hinges (band stops).
+    let o = foldsim::generate::options::FlasherOptions {
+        gores: 3,
+        rings: 1,
+        thickness: 0.01,
+        duration: 0.5,
+        ..Default::default()
+    };
+    let (thick, _) = o.scenario(&|k: &str| k.to_string()).expect("a small thick flasher");
+    assert!(thick.contains("free = \"within\""), "the thick flasher has no membrane hinges: update this seed");
+    out.push(("flasher3x1-thick".into(), thick));
     out
 }
 

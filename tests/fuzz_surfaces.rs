@@ -238,6 +238,9 @@ const OPTION_KEYS: &[&str] = &[
     "c_translation",
     "c_rotation",
     "k_stop",
+    "membrane_bending",
+    "membrane_width",
+    "membrane_damping_ratio",
     "spin_rpm",
     "integrator",
     "release_at",
@@ -307,6 +310,9 @@ fn fuzzed_generator_options_give_loadable_scenarios_or_name_the_option() {
                 let thick = if rng.below(3) == 0 { 0.01 } else { 0.0 };
                 o.thickness = pick(&mut rng, thick);
                 o.laws.k_stop = pick(&mut rng, 1e4);
+                o.laws.membrane_bending = pick(&mut rng, 3e-5);
+                o.laws.membrane_width = if rng.below(2) == 0 { None } else { Some(pick(&mut rng, 0.05)) };
+                o.laws.membrane_damping_ratio = pick(&mut rng, 0.5);
                 o.areal_density = pick(&mut rng, 1.0);
                 o.hub_mass = pick(&mut rng, 100.0);
                 o.spin_rpm = pick(&mut rng, 0.0);

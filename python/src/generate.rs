@@ -103,7 +103,7 @@ pub fn grid(rows: usize, cols: usize, options: Option<&Bound<'_, PyDict>>) -> Py
 #[pyfunction]
 #[pyo3(signature = (gores, rings, **options))]
 pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) -> PyResult<(Scenario, String)> {
-    const KNOWN: [&str; 22] = [
+    const KNOWN: [&str; 25] = [
         "hub_radius",
         "thickness",
         "hinge_axes",
@@ -120,6 +120,9 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
         "k_bending",
         "c_rotation",
         "k_stop",
+        "membrane_bending",
+        "membrane_width",
+        "membrane_damping_ratio",
         "spin_rpm",
         "duration",
         "output_step",
@@ -143,6 +146,12 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
             "k_bending" => &mut o.laws.k_rotation,
             "c_rotation" => &mut o.laws.c_rotation,
             "k_stop" => &mut o.laws.k_stop,
+            "membrane_bending" => &mut o.laws.membrane_bending,
+            "membrane_damping_ratio" => &mut o.laws.membrane_damping_ratio,
+            "membrane_width" => {
+                o.laws.membrane_width = v.extract()?;
+                return Ok(true);
+            }
             "spin_rpm" => &mut o.spin_rpm,
             "duration" => &mut o.duration,
             "tolerance" => {

@@ -21,6 +21,51 @@ pub struct CreaseLaw {
     pub c_rotation: f64,
     /// Stiffness of the stop at flat of a thick crease, N·m/rad (0: no stop).
     pub k_stop: f64,
+    /// A thick crease's membrane hinge (`None`: a pin on its axis).
+    pub membrane: Option<Membrane>,
+}
+
+/// A membrane hinge: the panels of a thick crease bonded to a flexible membrane that spans a
+/// gap of finite width at the fold line (Zirbel et al., "Accommodating thickness in
+/// origami-based deployable arrays", J. Mech. Des. 135, 111005, 2013). The membrane lets the
+/// two panels' edges move across the fold line (A0's x and y) while it is slack, resisting
+/// only by its bending, and holds them once taut; along the fold line and in the two
+/// rotations off the fold it is as stiff as a pin (docs/flasher.md, *Membrane hinges*).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Membrane {
+    /// Bending stiffness per unit length of fold line, `D = E t³ / (12 (1 − ν²))`, N·m.
+    pub bending: f64,
+    /// Width of the membrane across the fold line: the relative travel of the panels' edges
+    /// across it, each way, before it is taut, m.
+    pub width: f64,
+    /// Damping ratio of the panels' motion across the fold line while the membrane is slack
+    /// (on the two panels' reduced mass).
+    pub damping_ratio: f64,
+}
+
+impl Membrane {
+    /// Stiffness across the fold line of a membrane strip of `length` (m, the crease's) while
+    /// slack, N/m: a strip clamped to both panels and one edge moved sideways is a
+    /// fixed–guided beam, `12 EI / w³` (small deflection; L. L. Howell, *Compliant
+    /// Mechanisms*, Wiley 2001, §5.1, the fixed–guided segment), with `EI = D · length` for a
+    /// plate strip in cylindrical bending.
+    pub fn stiffness(&self, length: f64) -> f64 {
+        12.0 * self.bending * length / self.width.powi(3)
+    }
+
+    /// One direction's response (`x` or `y`): the strip's stiffness `k_m` within ±width,
+    /// damped at `damping_ratio` on the panels' reduced mass `mass` (kg: `c = 2ζ√(k_m m)`),
+    /// and beyond it a stop whose spring and damper are the hinge's translational ones
+    /// (`k_taut`, `c_taut`: the membrane taut), free within the band (docs/hinge-laws.md,
+    /// *stop*).
+    fn response(&self, length: f64, mass: f64, k_taut: f64, c_taut: f64) -> String {
+        let k = self.stiffness(length);
+        let damping = 2.0 * self.damping_ratio * (k * mass).sqrt();
+        format!(
+            "{{ k = {k:e}, damping = {damping:e}, stop = {{ at = 0.0, free = \"within\", band = {:e}, stiffness = {:e}, damping = {:e} }} }}",
+            self.width, k_taut, c_taut
+        )
+    }
 }
 
 /// The coefficient of restitution of thick panels meeting: face on face (the `[contact]`
@@ -63,11 +108,13 @@ impl FoldStop {
 }
 
 impl CreaseLaw {
-    /// The law's scenario text (`law = { ... }`), with `stop` as a directional law.
-    pub fn text(&self, stop: Option<&FoldStop>) -> String {
+    /// The law's scenario text (`law = { ... }`): law 2, or with a `stop` or a membrane (across
+    /// the fold line of a crease `length` m long, between panels of reduced mass `mass` kg) a
+    /// directional law.
+    pub fn text(&self, stop: Option<&FoldStop>, length: f64, mass: f64) -> String {
         let l = self;
-        match stop {
-            None => format!(
+        if stop.is_none() && l.membrane.is_none() {
+            return format!(
                 "law = {{ type = \"euler-potential\", k_f = {:e}, k_theta = [{:e}, {:e}, {:e}], c_f = {:e}, c_theta = [{:e}, {:e}, {:e}] }}",
                 l.k_translation,
                 l.k_rotation,
@@ -77,20 +124,27 @@ impl CreaseLaw {
                 l.c_rotation,
                 l.c_rotation,
                 l.c_fold
-            ),
-            Some(s) => {
-                let t = format!("{{ k = {:e}, damping = {:e} }}", l.k_translation, l.c_translation);
-                let r = format!("{{ k = {:e}, damping = {:e} }}", l.k_rotation, l.c_rotation);
-                format!(
-                    "law = {{ type = \"directional\", angles = \"euler\", x = {t}, y = {t}, z = {t}, rx = {r}, ry = {r}, rz = {{ k = {:e}, damping = {:e}, stop = {{ at_deg = 0.0, free = \"{}\", stiffness = {:e}, damping = {:e} }} }} }}",
-                    l.k_fold,
-                    l.c_fold,
-                    if s.free_above { "above" } else { "below" },
-                    s.stiffness,
-                    s.damping
-                )
-            }
+            );
         }
+        let t = format!("{{ k = {:e}, damping = {:e} }}", l.k_translation, l.c_translation);
+        let r = format!("{{ k = {:e}, damping = {:e} }}", l.k_rotation, l.c_rotation);
+        let across = match &l.membrane {
+            Some(m) => m.response(length, mass, l.k_translation, l.c_translation),
+            None => t.clone(),
+        };
+        let stop = match stop {
+            Some(s) => format!(
+                ", stop = {{ at_deg = 0.0, free = \"{}\", stiffness = {:e}, damping = {:e} }}",
+                if s.free_above { "above" } else { "below" },
+                s.stiffness,
+                s.damping
+            ),
+            None => String::new(),
+        };
+        format!(
+            "law = {{ type = \"directional\", angles = \"euler\", x = {across}, y = {across}, z = {t}, rx = {r}, ry = {r}, rz = {{ k = {:e}, damping = {:e}{stop} }} }}",
+            l.k_fold, l.c_fold
+        )
     }
 }
 
@@ -128,6 +182,57 @@ mod tests {
             }
             assert!((-rate - RESTITUTION).abs() < 1e-6, "k {k}, I {i}: parts at {}", -rate);
         }
+    }
+
+    /// A membrane crease's law, as the scenario loader reads it back: across the fold line
+    /// (x, y) the strip's `12 D L / w³`, and beyond ±w the taut membrane's (the hinge's
+    /// translational stiffness) besides, its energy the integral; along it (z) and in the rotations off the fold the pin's
+    /// stiffness. To round-off (1e-9 relative: the table's points are written to 17 digits).
+    #[test]
+    fn a_membrane_crease_reads_back_as_its_strip_and_taut_membrane() {
+        let m = Membrane { bending: 3e-5, width: 0.05, damping_ratio: 0.5 };
+        let length = 1.5;
+        let law = CreaseLaw {
+            k_translation: 1e7,
+            k_rotation: 1e4,
+            k_fold: 0.2,
+            c_fold: 1.0,
+            c_translation: 100.0,
+            c_rotation: 1.0,
+            k_stop: 1e4,
+            membrane: Some(m),
+        };
+        let stop = FoldStop::new(1e4, -1.0, [Some(0.1), None]);
+        let text = format!(
+            "[run]\nduration = 1.0\noutput_step = 0.1\nrtol = 1e-8\natol = 1e-8\n[[body]]\nname = \"hub\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n[[body]]\nname = \"p\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n[[hinge]]\nname = \"h\"\nparent = \"hub\"\nchild = \"p\"\na0 = {{ position = [1.0, 0.0, 0.0] }}\na = {{ child_com = [1.0, 0.0, 0.0] }}\n{}\n",
+            law.text(Some(&stop), length, 2.0)
+        );
+        let s = crate::scenario::Scenario::from_toml(&text, "membrane").unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let hinge_law = &s.model.hinges[0].law;
+        let k = 12.0 * 3e-5 * length / 0.05_f64.powi(3);
+        assert!((m.stiffness(length) - k).abs() < 1e-12 * k);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-9);
+        for (axis, u, f, e) in [
+            (0, 0.02, k * 0.02, 0.5 * k * 0.02 * 0.02),
+            (1, -0.03, -k * 0.03, 0.5 * k * 0.03 * 0.03),
+            (0, 0.07, k * 0.07 + 1e7 * 0.02, 0.5 * k * 0.07 * 0.07 + 0.5 * 1e7 * 0.02 * 0.02),
+            (1, -0.06, -k * 0.06 - 1e7 * 0.01, 0.5 * k * 0.06 * 0.06 + 0.5 * 1e7 * 0.01 * 0.01),
+            (2, 0.001, 1e7 * 0.001, 0.5 * 1e7 * 0.001 * 0.001),
+        ] {
+            let mut delta = Vec3::zeros();
+            delta[axis] = u;
+            let state = crate::law::HingeState::at(delta, crate::math::Euler321::default());
+            // The memory as a run would hold it there (the taut stop in contact beyond ±w).
+            let memory = hinge_law.initial_memory(&state);
+            let w = hinge_law.wrench(&state, &memory);
+            let v = hinge_law.stored_energy(&state, &memory);
+            assert!(close(w.force_in_a0[axis], f), "axis {axis} at {u} m: {} N against {f}", w.force_in_a0[axis]);
+            assert!(close(v, e), "axis {axis} at {u} m: {v} J against {e}");
+        }
+        // Off the fold: the pin's rotational stiffness (pitch 1e-3 rad: k θ to first order).
+        let state = crate::law::HingeState::at(Vec3::zeros(), crate::math::Euler321 { yaw: 0.0, pitch: 1e-3, roll: 0.0 });
+        let w = hinge_law.wrench(&state, &hinge_law.initial_memory(&state));
+        assert!((w.torque_in_a.norm() - 10.0).abs() < 1e-4, "{}", w.torque_in_a);
     }
 
     /// A unit square plate of unit mass about its edge: m/3 (parallel axes from m/12).

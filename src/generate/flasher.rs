@@ -19,11 +19,11 @@
 //! (`H_k H_k+1 M_k,2`, then `V_k+1,i−1 V_k+1,i M_k,i` and `M_k,i V_k+1,i M_k,i+1`):
 //! `N (4n − 5)` triangles.
 
-use super::sheet::{CreaseLaw, HingeAxes, Sense, Sheet, SheetParams, SheetReport, sheet_scenario};
+use super::crease::Membrane;
+use super::sheet::{CreaseLaw, HingeAxes, Sense, SheetReport, Sheet, SheetParams, sheet_scenario};
 use crate::math::Vec3;
 use std::collections::{BTreeMap, VecDeque};
 use std::f64::consts::PI;
-use std::fmt::Write;
 
 /// How the flasher's sheet is divided into rigid bodies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -460,7 +460,25 @@ pub struct FlasherLaws {
     /// Thick panels (axes shifted): stiffness of each folding crease's stop at flat, where its
     /// panels' edges meet, N·m/rad (0: none); damped for the contact's restitution.
     pub k_stop: f64,
+    /// Thick panels (axes shifted): bending stiffness per unit length of the membrane that
+    /// bonds each folding crease's panels, N·m (0: no membrane, the crease a pin on its
+    /// axis; docs/flasher.md, *Membrane hinges*).
+    pub membrane_bending: f64,
+    /// Thick panels: the membrane's width across the fold line, m (`None`:
+    /// [`MEMBRANE_WIDTH_THICKNESSES`] panel thicknesses).
+    pub membrane_width: Option<f64>,
+    /// Thick panels: damping ratio of the panels' motion across a fold line while its
+    /// membrane is slack (on the two panels' reduced mass).
+    pub membrane_damping_ratio: f64,
 }
+
+/// A thick flasher's membrane hinges are this many panel thicknesses wide unless told
+/// otherwise (docs/flasher.md, *Membrane hinges*).
+pub const MEMBRANE_WIDTH_THICKNESSES: f64 = 5.0;
+
+/// The bending stiffness per unit length of a 125-µm (5-mil) polyimide (Kapton) film, N·m:
+/// `D = E t³ / (12 (1 − ν²))` with E = 2.5 GPa, ν = 0.34 (DuPont's Kapton HN data sheet).
+pub const KAPTON_125UM_BENDING: f64 = 2.5e9 * 125e-6 * 125e-6 * 125e-6 / (12.0 * (1.0 - 0.34 * 0.34));
 
 impl Default for FlasherLaws {
     /// The command line's defaults, chosen so that a flasher deploys by its stored fold energy
@@ -484,9 +502,13 @@ impl Default for FlasherLaws {
             k_rotation: 1e3,
             c_rotation: 0.1,
             k_stop: 1e4,
+            membrane_bending: KAPTON_125UM_BENDING,
+            membrane_width: None,
+            membrane_damping_ratio: 0.5,
         }
     }
 }
+
 
 /// A flasher and how it is written as a scenario: the report the generator prints.
 #[derive(Clone, Debug)]
@@ -504,6 +526,8 @@ pub struct FlasherReport {
     pub layers: Option<(f64, usize)>,
     /// Where the hinges' fold axes lie.
     pub hinge_axes: HingeAxes,
+    /// The folding creases' membrane hinges, if any, and their count.
+    pub membrane: Option<(Membrane, usize)>,
 }
 
 /// The `[contact]` table written with thick panels.
@@ -533,11 +557,20 @@ pub fn flasher_scenario(
             .map(|l| l.map_or(Vec3::zeros(), |(n, layer)| n * ((layer as f64 + 0.5) * p.thickness)))
             .collect();
     }
+    // Membrane hinges on the folding creases of thick panels with shifted axes (not on the
+    // triangle model's diagonals, which stand for the bending of a quadrilateral panel).
+    let membrane = (p.thickness > 0.0 && p.hinge_axes == HingeAxes::Shifted && laws.membrane_bending > 0.0).then(|| Membrane {
+        bending: laws.membrane_bending,
+        width: laws.membrane_width.unwrap_or(MEMBRANE_WIDTH_THICKNESSES * p.thickness),
+        damping_ratio: laws.membrane_damping_ratio,
+    });
+    let membranes = std::cell::Cell::new(0);
     let law = |a: usize, b: usize| {
-        let (k_fold, c_fold) = match f.kinds.get(&(a.min(b), a.max(b))) {
-            Some(CreaseKind::Diagonal) => (laws.k_bending, laws.c_bending),
-            _ => (laws.k_fold, laws.c_fold),
+        let (k_fold, c_fold, membrane) = match f.kinds.get(&(a.min(b), a.max(b))) {
+            Some(CreaseKind::Diagonal) => (laws.k_bending, laws.c_bending, None),
+            _ => (laws.k_fold, laws.c_fold, membrane),
         };
+        membranes.set(membranes.get() + usize::from(membrane.is_some()));
         CreaseLaw {
             k_translation: laws.k_translation,
             k_rotation: laws.k_rotation,
@@ -546,6 +579,7 @@ pub fn flasher_scenario(
             c_rotation: laws.c_rotation,
             c_fold,
             k_stop: laws.k_stop,
+            membrane,
         }
     };
     let (mut text, sheet) = sheet_scenario(&f.sheet, law, p)?;
@@ -565,119 +599,18 @@ pub fn flasher_scenario(
         .sum();
     Ok((
         text,
-        FlasherReport { shape: *shape, geometry: f.geometry, sheet, strain_energy, layers, hinge_axes: p.hinge_axes },
+        FlasherReport {
+            shape: *shape,
+            geometry: f.geometry,
+            sheet,
+            strain_energy,
+            layers,
+            hinge_axes: p.hinge_axes,
+            membrane: membrane.map(|m| (m, membranes.get())),
+        },
     ))
 }
 
-impl FlasherReport {
-    /// The report as text, one fact per line; with `all_folds`, every hinge's stowed fold.
-    pub fn text(&self, all_folds: bool) -> String {
-        let (g, s) = (&self.geometry, &self.sheet);
-        let mut out = String::new();
-        let _ = writeln!(
-            out,
-            "flasher: {} gores, {} rings, hub radius {} m, panel model '{}'",
-            self.shape.gores,
-            self.shape.rings,
-            self.shape.hub_radius,
-            self.shape.model.name()
-        );
-        let _ = writeln!(
-            out,
-            "deployed diameter {:.6} m; stowed diameter {:.6} m, height {:.6} m",
-            g.deployed_diameter, g.stowed_diameter, g.stowed_height
-        );
-        let _ = writeln!(out, "panels {} (hub included), hinges {}, independent loops {}", s.panels, s.hinges, s.loops);
-        let _ = writeln!(
-            out,
-            "checks: edge lengths agree to {:.1e} (relative), unfolding closes to {:.1e} m, deployed flat to {:.1e} m, {}-fold symmetric to {:.1e} m, overlap {:.1e}, stowed nodes on the prism to {:.1e} m",
-            g.edge_mismatch, g.closure, g.flatness, self.shape.gores, g.symmetry, g.overlap, g.off_prism
-        );
-        let worst = s.strains.iter().max_by(|a, b| a.off_axis().total_cmp(&b.off_axis()));
-        match worst {
-            Some(w) if w.off_axis() > 1e-9 => {
-                let _ = writeln!(
-                    out,
-                    "stowed strain: largest hinge deflection off its fold axis {:.3e} m / {:.3e} rad ({}), strain energy {:.6e} J; panels are off their rigid stowed pose by up to {:.3e} m",
-                    w.delta.norm(),
-                    w.pitch.abs().max(w.roll.abs()),
-                    w.hinge,
-                    self.strain_energy,
-                    s.panel_strain
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    out,
-                    "stowed strain: none (every hinge is on its fold axis to {:.1e}; strain energy {:.1e} J)",
-                    worst.map_or(0.0, |w| w.off_axis()),
-                    self.strain_energy
-                );
-            }
-        }
-        if let Some((h, outer)) = self.layers {
-            let _ = writeln!(
-                out,
-                "thickness {h} m: stowed in nested layers 0 to {outer} out from the prism walls, face to face (gap 0 between layers), the package {:.6} m across",
-                self.geometry.stowed_diameter
-                    + 2.0 * (outer as f64 + 1.0) * h / (std::f64::consts::PI / self.shape.gores as f64).cos()
-            );
-            let shift = s.strains.iter().max_by(|a, b| a.axis_shift.norm().total_cmp(&b.axis_shift.norm()));
-            match (self.hinge_axes, shift) {
-                (HingeAxes::Shifted, Some(w)) => {
-                    let moved = s.strains.iter().filter(|f| f.axis_shift.norm() > 1e-9 * h).count();
-                    let _ = writeln!(
-                        out,
-                        "hinge axes shifted (thickness accommodation): {moved} of {} hinge axes moved off their creases so that each stowed fold is a pure turn, by up to {:.3} thicknesses ({}: {:.3} across, {:.3} along the parent's normal); the deployed sheet is the thin pattern's, panels edge to edge (no gaps, diameter {:.6} m as without thickness; only the vertex cut-outs differ)",
-                        s.strains.len(),
-                        w.axis_shift.norm() / h,
-                        w.hinge,
-                        w.axis_shift.x / h,
-                        w.axis_shift.y / h,
-                        g.deployed_diameter
-                    );
-                    if let Some((_, first)) = s.stops.first() {
-                        let (lo, hi) = s.stops.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), (_, st)| {
-                            (lo.min(st.damping), hi.max(st.damping))
-                        });
-                        let _ = writeln!(
-                            out,
-                            "crease stops: {} of {} hinges fold one way only, their panels' edges meeting at flat: a stop there at {:e} N·m/rad, damping {:.3}–{:.3} N·m·s/rad (restitution {} for each crease's panels)",
-                            s.stops.len(),
-                            s.strains.len(),
-                            first.stiffness,
-                            lo,
-                            hi,
-                            super::crease::RESTITUTION
-                        );
-                    }
-                }
-                _ => {
-                    // The layers' offsets, and so the hinges' stowed deflections, grow in
-                    // proportion to the thickness: the limit on the thickness is the hinges'.
-                    let offset = worst.map_or(0.0, |w| w.delta.norm());
-                    let _ = writeln!(
-                        out,
-                        "hinge axes in the mid-plane: the hinges take up the layers' offsets (the stowed strain above), the largest {:.3} thicknesses, so hinges that take an offset d stow panels up to d / {:.3} thick (for this hub and pattern)",
-                        offset / h,
-                        offset / h
-                    );
-                }
-            }
-        }
-        let mut folds: Vec<f64> = s.strains.iter().map(|f| f.fold.to_degrees()).collect();
-        folds.sort_by(f64::total_cmp);
-        folds.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-        let shown: Vec<String> = folds.iter().map(|f| format!("{f:.4}")).collect();
-        let _ = writeln!(out, "stowed fold angles (distinct, degrees): {}", shown.join(", "));
-        if all_folds {
-            for f in &s.strains {
-                let _ = writeln!(out, "  {} {:.6}°", f.hinge, f.fold.to_degrees());
-            }
-        }
-        out
-    }
-}
 
 #[cfg(test)]
 mod tests {

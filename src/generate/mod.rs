@@ -6,6 +6,7 @@
 //!   states and its panels (the flasher's builder).
 //! - [`flasher::flasher_scenario`]: a flasher (a disc wrapped round a polygonal hub) from its
 //!   gores and rings, through the sheet builder.
+//! - [`flasher_report`]: the flasher generator's report.
 //! - [`crease`]: a crease's hinge law as the sheet builder writes it (a thick crease's stop at
 //!   flat).
 //! - [`options`]: the generators' options, defaults and checks, shared by the command line
@@ -17,7 +18,9 @@
 //! five other directions, soft in the fold, as real hinges are.
 
 pub mod crease;
+mod cuts;
 pub mod flasher;
+pub mod flasher_report;
 pub mod grid;
 pub mod options;
 pub mod params;

@@ -272,11 +272,16 @@ impl FlasherOptions {
                 ("k_bending", l.k_rotation, dl.k_rotation),
                 ("c_rotation", l.c_rotation, dl.c_rotation),
                 ("k_stop", l.k_stop, dl.k_stop),
+                ("membrane_bending", l.membrane_bending, dl.membrane_bending),
+                ("membrane_damping_ratio", l.membrane_damping_ratio, dl.membrane_damping_ratio),
                 ("spin_rpm", self.spin_rpm, d.spin_rpm),
                 ("duration", self.duration, d.duration),
             ],
             name,
         );
+        if let Some(w) = self.laws.membrane_width {
+            out.push((name("membrane_width"), w));
+        }
         if let Some(t) = self.tolerance {
             out.push((name("tolerance"), t));
         }
@@ -332,11 +337,16 @@ impl FlasherOptions {
             (l.c_translation, "c_translation", "N·s/m"),
             (l.c_rotation, "c_rotation", "N·m·s/rad"),
             (l.k_stop, "k_stop", "N·m/rad"),
+            (l.membrane_bending, "membrane_bending", "N·m"),
+            (l.membrane_damping_ratio, "membrane_damping_ratio", "(a ratio)"),
             (l.k_translation, "k_translation", "N/m"),
             (l.k_rotation, "k_bending", "N·m/rad"),
             (l.k_fold, "k_fold", "N·m/rad"),
         ] {
             at_least_zero(v, key, unit, name)?;
+        }
+        if let Some(w) = l.membrane_width {
+            positive(w, "membrane_width", "m", name)?;
         }
         let r = self.hub_radius;
         if self.thickness > 0.0 && self.thickness < 1e-6 * r {
@@ -458,7 +468,7 @@ mod tests {
 
     /// A thick flasher with shifted axes stops every folding crease at flat, free on its
     /// stowed fold's side, and the scenario loads; thin panels, axes in the mid-plane or
-    /// `k_stop = 0` write no stop (and law 2 as before).
+    /// `k_stop = 0` write no stop (and with no membrane law 2 as before).
     #[test]
     fn thick_creases_stop_at_flat_on_the_far_side_of_their_fold() {
         use crate::generate::crease::LEAST_STOPPED_FOLD;
@@ -474,14 +484,22 @@ mod tests {
         }
         assert_eq!(text.matches("stop = { at_deg = 0.0").count(), folding.len());
         crate::scenario::Scenario::from_toml(&text, "thick").unwrap();
+        // Each folding crease has its membrane (x and y), the diagonals none.
+        assert_eq!(text.matches("free = \"within\"").count(), 2 * folding.len());
+        assert_eq!(report.membrane.map(|m| m.1), Some(folding.len()));
         let none = [
             FlasherOptions { thickness: 0.0, ..thick.clone() },
             FlasherOptions { hinge_axes: HingeAxes::MidPlane, ..thick.clone() },
-            FlasherOptions { laws: FlasherLaws { k_stop: 0.0, ..thick.laws }, ..thick.clone() },
+            FlasherOptions { laws: FlasherLaws { k_stop: 0.0, membrane_bending: 0.0, ..thick.laws }, ..thick.clone() },
         ];
         for o in none {
             let (text, report) = o.scenario(&|k: &str| k.to_string()).unwrap();
             assert!(report.sheet.stops.is_empty() && !text.contains("directional"), "{o:?}");
         }
+        // Without stops the membranes stay (a directional law with no stop at flat).
+        let membranes_only = FlasherOptions { laws: FlasherLaws { k_stop: 0.0, ..thick.laws }, ..thick.clone() };
+        let (text, report) = membranes_only.scenario(&|k: &str| k.to_string()).unwrap();
+        assert!(report.sheet.stops.is_empty() && !text.contains("at_deg = 0.0"));
+        assert_eq!(text.matches("free = \"within\"").count(), 2 * folding.len());
     }
 }

@@ -19,6 +19,7 @@
 //!   its stowed ones (least squares; exact when the panel is rigid in the pattern), and how far
 //!   a node is off it is reported: panels that must bend to stow carry strain.
 
+use super::cuts::{cut_corners, tip_cuts};
 use super::params::RunText;
 use crate::math::{Euler321, Mat3, Vec3};
 use crate::model::Shape;
@@ -193,66 +194,6 @@ fn fit(a: &[Vec3], b: &[Vec3]) -> (Mat3, Vec3) {
 /// A panel's body x axis: of the directions in its plane at 5° steps from its first edge, the
 /// one furthest from every edge. A crease along the child's x axis would put `θ_{c/A}` at
 /// pitch ±90°, where 3-2-1 angles cannot be recovered from the frame (docs/model.md §7).
-/// How far thick panels are cut back from each pattern vertex along each edge there (m, by
-/// (vertex, other end of the edge)), with `h` half the thickness. Thick panels meeting at a
-/// vertex tip to tip overlap as soon as the folds leave flat (the vertex interference that
-/// thickness-accommodated patterns clear with cut-outs at the vertices: Zirbel et al. 2013),
-/// and a thin plate's rounded rim (docs/contact.md §1) ends (h)/tan(α/2) short of an acute
-/// corner of angle α. So every panel corner at a vertex is cut back by 1.5 h / tan(α/2) for
-/// the sharpest panel corner there (the factor keeps the cut edge when the outline is moved
-/// in by h), at most a third of the edge; one length per edge and vertex, so that the two
-/// panels of a crease keep a common crease line and end it at the same point (their crease
-/// samples match, docs/contact.md §1). The hub (panel 0) is not cut.
-fn tip_cuts(panels: &[Vec<usize>], dep: &[Vec3], h: f64) -> BTreeMap<(usize, usize), f64> {
-    let mut radius: BTreeMap<usize, f64> = BTreeMap::new();
-    let corners = |nodes: &[usize]| {
-        let n = nodes.len();
-        (0..n).map(move |i| (nodes[(i + n - 1) % n], nodes[i], nodes[(i + 1) % n])).collect::<Vec<_>>()
-    };
-    for nodes in panels.iter().skip(1) {
-        for (prev, v, next) in corners(nodes) {
-            let (u1, u2) = (dep[prev] - dep[v], dep[next] - dep[v]);
-            let cos = (u1.dot(&u2) / (u1.norm() * u2.norm())).clamp(-1.0, 1.0);
-            if cos > 0.0 {
-                let r = 1.5 * h / (0.5 * cos.acos()).tan();
-                let e = radius.entry(v).or_insert(0.0);
-                *e = e.max(r);
-            }
-        }
-    }
-    let mut cuts = BTreeMap::new();
-    for nodes in panels.iter().skip(1) {
-        for (prev, v, next) in corners(nodes) {
-            let r = radius.get(&v).copied().unwrap_or(0.0);
-            for other in [prev, next] {
-                cuts.insert((v, other), r.min((dep[other] - dep[v]).norm() / 3.0));
-            }
-        }
-    }
-    cuts
-}
-
-/// A panel's outline (nodes of `dep`, in order) with its corners cut back by `cuts`.
-fn cut_corners(nodes: &[usize], dep: &[Vec3], cuts: &BTreeMap<(usize, usize), f64>) -> Vec<Vec3> {
-    let n = nodes.len();
-    let mut out = Vec::with_capacity(2 * n);
-    for i in 0..n {
-        let (prev, v, next) = (nodes[(i + n - 1) % n], nodes[i], nodes[(i + 1) % n]);
-        let c1 = cuts.get(&(v, prev)).copied().unwrap_or(0.0);
-        let c2 = cuts.get(&(v, next)).copied().unwrap_or(0.0);
-        if c1 > 0.0 {
-            out.push(dep[v] + (dep[prev] - dep[v]).normalize() * c1);
-        }
-        if c1 <= 0.0 || c2 <= 0.0 {
-            out.push(dep[v]);
-        }
-        if c2 > 0.0 {
-            out.push(dep[v] + (dep[next] - dep[v]).normalize() * c2);
-        }
-    }
-    out
-}
-
 fn body_x(polygon: &[Vec3], normal: &Vec3) -> Vec3 {
     let e1 = (polygon[1] - polygon[0]).normalize();
     let e2 = normal.cross(&e1);
@@ -492,6 +433,9 @@ pub fn sheet_scenario(
         if let Some(stop) = stop {
             report.stops.push((hname.clone(), stop));
         }
+        // The two panels' reduced mass (kg; the hub's is its mass), for a membrane's damping.
+        let mass = |k: usize| if k == 0 { p.hub_mass } else { masses[k].mass };
+        let reduced_mass = mass(parent) * mass(child) / (mass(parent) + mass(child));
         let _ = writeln!(
             out,
             "[[hinge]]\nname = \"{hname}\"\nparent = \"{}\"\nchild = \"{}\"\na0 = {a0}\na = {{ child_com = [{:?}, {:?}, {:?}], yaw = {:?}, pitch = {:?}, roll = {:?} }}\n{}\n",
@@ -503,7 +447,7 @@ pub fn sheet_scenario(
             theta_c_a.yaw,
             theta_c_a.pitch,
             theta_c_a.roll,
-            l.text(stop.as_ref()),
+            l.text(stop.as_ref(), (dep[b] - dep[a]).norm(), reduced_mass),
         );
         report.strains.push(HingeStrain {
             hinge: hname.clone(),
@@ -577,6 +521,7 @@ mod tests {
         c_translation: 0.0,
         c_rotation: 0.0,
         k_stop: 0.0,
+        membrane: None,
     };
 
     /// Every hinge of `s` is closed at the state `y`: δ, pitch and roll within round-off

@@ -144,19 +144,43 @@ impl Table2 {
 }
 
 /// An end stop at `at`: a stiff damped spring that acts while the coordinate is beyond it,
-/// and, with `lock`, holds the coordinate at `at` from its first contact on (a latch).
+/// and, with `lock`, holds the coordinate at `at` from its first contact on (a latch). With a
+/// `band`, two stops: the coordinate is free within `at ± band` and met by the spring beyond
+/// either end (a slack membrane that goes taut either way).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stop {
-    /// Stop position (coordinate, not offset by rest), m or rad.
+    /// Stop position (coordinate, not offset by rest), m or rad; with a band, its middle.
     pub at: f64,
-    /// True if the free side is `q ≥ at` (the stop resists going below), false if `q ≤ at`.
+    /// True if the free side is `q ≥ at` (the stop resists going below), false if `q ≤ at`
+    /// (without a band).
     pub free_above: bool,
+    /// Half-width of the free band about `at` (m or rad), 0 for a one-sided stop.
+    pub band: f64,
     /// Contact stiffness, N/m or N·m/rad.
     pub stiffness: f64,
     /// Contact damping, N·s/m or N·m·s/rad.
     pub damping: f64,
     /// Latch: once reached, the stop holds on both sides for the rest of the run.
     pub lock: bool,
+}
+
+impl Stop {
+    /// How far `q` is beyond the stop: positive where the stop acts (m or rad).
+    pub fn beyond(&self, q: f64) -> f64 {
+        if self.band > 0.0 {
+            (q - self.at).abs() - self.band
+        } else if self.free_above {
+            self.at - q
+        } else {
+            q - self.at
+        }
+    }
+
+    /// The stop spring's extension at `q` (m or rad): `q` less the end it meets (the nearer
+    /// end of a band), so that its force `stiffness · extension` pushes back into the free side.
+    pub fn extension(&self, q: f64) -> f64 {
+        if self.band > 0.0 { q - self.at - self.band.copysign(q - self.at) } else { q - self.at }
+    }
 }
 
 /// One direction of a [`DirectionalLaw`].
@@ -215,7 +239,7 @@ impl Direction {
         if let Some(stop) = &self.stop
             && (m.in_contact || m.latched)
         {
-            let pen = q - stop.at;
+            let pen = stop.extension(q);
             f += stop.stiffness * pen + stop.damping * qd;
             v += 0.5 * stop.stiffness * pen * pen;
             p += stop.damping * qd * qd;
@@ -439,7 +463,7 @@ impl HingeLaw for DirectionalLaw {
                 };
             }
             if let Some(stop) = &d.stop {
-                let pen = if stop.free_above { stop.at - q[i] } else { q[i] - stop.at };
+                let pen = stop.beyond(q[i]);
                 m.directions[i].in_contact = pen > 0.0;
                 m.directions[i].latched = pen > 0.0 && stop.lock;
             }
@@ -487,7 +511,7 @@ impl HingeLaw for DirectionalLaw {
             if let Some(stop) = &d.stop
                 && !m.latched
             {
-                let beyond = if stop.free_above { stop.at - q[i] } else { q[i] - stop.at };
+                let beyond = stop.beyond(q[i]);
                 slots[2] = if m.in_contact { beyond } else { -beyond };
             }
         }
@@ -674,7 +698,7 @@ mod tests {
             response: Response::TapeSpring(tape()),
             rest: 0.1,
             damping: 0.05,
-            stop: Some(Stop { at: 0.1, free_above: true, stiffness: 1e3, damping: 2.0, lock: false }),
+            stop: Some(Stop { at: 0.1, free_above: true, band: 0.0, stiffness: 1e3, damping: 2.0, lock: false }),
         };
         dirs[3] = Direction {
             response: Response::Table(
@@ -703,12 +727,27 @@ mod tests {
             damping: 0.0,
             stop: None,
         };
+        // x: a band stop (free within ±0.005 m), met beyond its upper end along the path; y: the
+        // same band met beyond its lower end.
+        let band = Stop { at: 0.0, free_above: true, band: 0.005, stiffness: 1e4, damping: 3.0, lock: false };
+        dirs[0] = Direction { stop: Some(band), damping: 0.2, ..Direction::linear(100.0) };
+        dirs[1] = Direction { stop: Some(Stop { at: -0.01, ..band }), ..Direction::linear(100.0) };
         for angles in [Angles::Euler, Angles::RotationVector] {
             let law = DirectionalLaw { angles, directions: dirs.clone() };
+            let mut g = vec![0.0; law.event_count()];
+            for (x, inside) in [(0.0, true), (0.0049, true), (0.0051, false), (-0.0051, false)] {
+                let state = HingeState::at(Vec3::new(x, 0.0, 0.0), Euler321::default());
+                let m = law.initial_memory(&state);
+                assert_eq!(m.directions[0].in_contact, !inside, "x = {x}");
+                law.event_values(&state, &m, &mut g);
+                assert!((g[2] - (0.005 - x.abs()).abs()).abs() < 1e-15, "x = {x}: {}", g[2]);
+            }
             for slip in [SlipMode::Decreasing, SlipMode::Increasing, SlipMode::Stick { q_r: 0.5, s_r: 0.2 }] {
                 let mut m = LawMemory::default();
                 m.directions[5].slip = slip;
                 m.directions[5].in_contact = true;
+                m.directions[0].in_contact = true;
+                m.directions[1].in_contact = true;
                 // A path: angles and δ moving with constant rates.
                 let omega = Vec3::new(0.2, -0.3, 0.7);
                 let path = |t: f64| {

@@ -162,6 +162,7 @@ fn direction(
     let r = &d.get_ref().0;
     let here = |m: String| ctx.span(d, format!("hinge '{hinge}' law.{name}: {m}"));
     let (unit, rate_unit) = if rotational { ("N·m/rad", "N·m·s/rad") } else { ("N/m", "N·s/m") };
+    let unit_of_q = if rotational { "in rad (or band_deg in degrees)" } else { "in m" };
     let given = [
         r.free == Some(true),
         r.locked == Some(true),
@@ -260,15 +261,60 @@ fn direction(
                     ),
                 )
             })?;
-            let free_above = match raw.free.get_ref().as_str() {
-                "above" => true,
-                "below" => false,
+            let (free_above, within) = match raw.free.get_ref().as_str() {
+                "above" => (true, false),
+                "below" => (false, false),
+                "within" => (true, true),
                 other => {
                     return Err(ctx.span(
                         &raw.free,
-                        format!("hinge '{hinge}' law.{name}.stop.free '{other}' must be \"above\" (the stop resists going below 'at') or \"below\""),
+                        format!("hinge '{hinge}' law.{name}.stop.free '{other}' must be \"above\" (the stop resists going below 'at'), \"below\" or \"within\" (free within at ± band)"),
                     ));
                 }
+            };
+            let band = match (&raw.band, &raw.band_deg) {
+                (Some(b), None) => Some((b, *b.get_ref())),
+                (None, Some(b)) if rotational => Some((b, b.get_ref().to_radians())),
+                (None, Some(b)) => {
+                    return Err(ctx.span(
+                        b,
+                        format!("hinge '{hinge}' law.{name}.stop: 'band_deg' is for rotations; give 'band' in m"),
+                    ));
+                }
+                (Some(b), Some(_)) => {
+                    return Err(ctx.span(b, format!("hinge '{hinge}' law.{name}.stop: give 'band' or 'band_deg', not both")));
+                }
+                (None, None) => None,
+            };
+            let band = match (within, band) {
+                (true, Some((span, b))) => {
+                    if !(b.is_finite() && b > 0.0) {
+                        return Err(ctx.span(
+                            span,
+                            format!("hinge '{hinge}' law.{name}.stop.band must be a positive half-width {unit_of_q}; got {b}"),
+                        ));
+                    }
+                    if raw.lock {
+                        return Err(ctx.span(
+                            span,
+                            format!("hinge '{hinge}' law.{name}.stop: a latch (lock = true) holds at one stop; give free = \"above\" or \"below\", not \"within\""),
+                        ));
+                    }
+                    b
+                }
+                (true, None) => {
+                    return Err(ctx.span(
+                        &raw.free,
+                        format!("hinge '{hinge}' law.{name}.stop: free = \"within\" needs 'band', the half-width of the free band about 'at' {unit_of_q}"),
+                    ));
+                }
+                (false, Some((span, _))) => {
+                    return Err(ctx.span(
+                        span,
+                        format!("hinge '{hinge}' law.{name}.stop: 'band' goes with free = \"within\" (a one-sided stop has none)"),
+                    ));
+                }
+                (false, None) => 0.0,
             };
             let stiffness = positive(ctx, &raw.stiffness, &format!("law.{name}.stop.stiffness"), unit)?;
             let damping = *raw.damping.get_ref();
@@ -277,7 +323,7 @@ fn direction(
                     ctx.span(&raw.damping, format!("hinge '{hinge}' law.{name}.stop.damping must be ≥ 0 {rate_unit}"))
                 );
             }
-            Some(Stop { at, free_above, stiffness, damping, lock: raw.lock })
+            Some(Stop { at, free_above, band, stiffness, damping, lock: raw.lock })
         }
     };
     Ok(Direction { response, rest, damping, stop })

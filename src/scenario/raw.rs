@@ -222,6 +222,8 @@ pub(super) struct RawStop {
     pub(super) at: Option<f64>,
     pub(super) at_deg: Option<f64>,
     pub(super) free: Spanned<String>,
+    pub(super) band: Option<Spanned<f64>>,
+    pub(super) band_deg: Option<Spanned<f64>>,
     pub(super) stiffness: Spanned<f64>,
     pub(super) damping: Spanned<f64>,
     #[serde(default)]

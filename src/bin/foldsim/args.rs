@@ -333,6 +333,21 @@ pub struct FlasherArgs {
     /// its panels' edges meet, N·m/rad (0: no stops); damped for the contact's restitution.
     #[arg(long, default_value_t = FlasherOptions::default().laws.k_stop)]
     pub k_stop: f64,
+    /// Thick panels (axes shifted): bending stiffness per unit length of the membrane that
+    /// bonds each folding crease's panels (a membrane hinge: the panels' edges move across the
+    /// fold line, resisted by its bending, until it is taut), N·m; the default is a 125-µm
+    /// polyimide film; 0: no membrane (each crease a pin on its axis). docs/flasher.md,
+    /// Membrane hinges.
+    #[arg(long, default_value_t = FlasherOptions::default().laws.membrane_bending)]
+    pub membrane_bending: f64,
+    /// Thick panels: the membrane's width across the fold line, m (how far the panels' edges
+    /// move across it, each way, before it is taut). Default: 5 panel thicknesses.
+    #[arg(long)]
+    pub membrane_width: Option<f64>,
+    /// Thick panels: damping ratio of the panels' motion across a fold line while its membrane
+    /// is slack, on the two panels' reduced mass (a modelling choice, not a measured value).
+    #[arg(long, default_value_t = FlasherOptions::default().laws.membrane_damping_ratio)]
+    pub membrane_damping_ratio: f64,
     /// Initial hub spin about its axis, rev/min.
     #[arg(long, default_value_t = FlasherOptions::default().spin_rpm)]
     pub spin_rpm: f64,

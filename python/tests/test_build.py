@@ -91,5 +91,16 @@ def test_generators_equal_the_cli(tmp_path: Path):
     assert "hinge axes in the mid-plane" in mid and "stowed strain: largest" in mid, mid
     with pytest.raises(ValueError, match="give shifted or mid-plane"):
         foldsim.generate.flasher(5, 2, thickness=0.01, hinge_axes="membrane")
+    # Membrane hinges on the folding creases of thick panels, as on the command line: their
+    # width sets the stiffness across the fold line (12 D / w³ per metre of crease).
+    assert "membrane hinges: " in shifted and "membrane hinges" not in mid, mid
+    _, narrow = foldsim.generate.flasher(5, 2, thickness=0.01, membrane_width=0.025, membrane_bending=1e-4)
+    assert "a membrane 0.025 m wide" in narrow and "7.680e1 N/m per metre of crease" in narrow, narrow
+    scenario, none = foldsim.generate.flasher(5, 2, thickness=0.01, membrane_bending=0.0)
+    assert "membrane hinges" not in none and 'free = "within"' not in scenario.text
+    with pytest.raises(ValueError, match="membrane_width must be a positive number in m"):
+        foldsim.generate.flasher(5, 2, thickness=0.01, membrane_width=-0.01)
+    with pytest.raises(ValueError, match="membrane_damping_ratio must be a number ≥ 0"):
+        foldsim.generate.flasher(5, 2, thickness=0.01, membrane_damping_ratio=float("nan"))
     with pytest.raises(ValueError, match="unknown option 'k_flod'.*k_fold"):
         foldsim.generate.zfold(3, k_flod=1.0)

@@ -230,7 +230,8 @@ mod tests {
             assert!(close(v, e), "axis {axis} at {u} m: {v} J against {e}");
         }
         // Off the fold: the pin's rotational stiffness (pitch 1e-3 rad: k θ to first order).
-        let state = crate::law::HingeState::at(Vec3::zeros(), crate::math::Euler321 { yaw: 0.0, pitch: 1e-3, roll: 0.0 });
+        let state =
+            crate::law::HingeState::at(Vec3::zeros(), crate::math::Euler321 { yaw: 0.0, pitch: 1e-3, roll: 0.0 });
         let w = hinge_law.wrench(&state, &hinge_law.initial_memory(&state));
         assert!((w.torque_in_a.norm() - 10.0).abs() < 1e-4, "{}", w.torque_in_a);
     }

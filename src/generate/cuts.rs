@@ -63,4 +63,3 @@ pub(super) fn cut_corners(nodes: &[usize], dep: &[Vec3], cuts: &BTreeMap<(usize,
     }
     out
 }
-

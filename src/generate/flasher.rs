@@ -20,7 +20,7 @@
 //! `N (4n − 5)` triangles.
 
 use super::crease::Membrane;
-use super::sheet::{CreaseLaw, HingeAxes, Sense, SheetReport, Sheet, SheetParams, sheet_scenario};
+use super::sheet::{CreaseLaw, HingeAxes, Sense, Sheet, SheetParams, SheetReport, sheet_scenario};
 use crate::math::Vec3;
 use std::collections::{BTreeMap, VecDeque};
 use std::f64::consts::PI;
@@ -504,11 +504,10 @@ impl Default for FlasherLaws {
             k_stop: 1e4,
             membrane_bending: KAPTON_125UM_BENDING,
             membrane_width: None,
-            membrane_damping_ratio: 0.5,
+            membrane_damping_ratio: 1.0,
         }
     }
 }
-
 
 /// A flasher and how it is written as a scenario: the report the generator prints.
 #[derive(Clone, Debug)]
@@ -559,11 +558,12 @@ pub fn flasher_scenario(
     }
     // Membrane hinges on the folding creases of thick panels with shifted axes (not on the
     // triangle model's diagonals, which stand for the bending of a quadrilateral panel).
-    let membrane = (p.thickness > 0.0 && p.hinge_axes == HingeAxes::Shifted && laws.membrane_bending > 0.0).then(|| Membrane {
-        bending: laws.membrane_bending,
-        width: laws.membrane_width.unwrap_or(MEMBRANE_WIDTH_THICKNESSES * p.thickness),
-        damping_ratio: laws.membrane_damping_ratio,
-    });
+    let membrane =
+        (p.thickness > 0.0 && p.hinge_axes == HingeAxes::Shifted && laws.membrane_bending > 0.0).then(|| Membrane {
+            bending: laws.membrane_bending,
+            width: laws.membrane_width.unwrap_or(MEMBRANE_WIDTH_THICKNESSES * p.thickness),
+            damping_ratio: laws.membrane_damping_ratio,
+        });
     let membranes = std::cell::Cell::new(0);
     let law = |a: usize, b: usize| {
         let (k_fold, c_fold, membrane) = match f.kinds.get(&(a.min(b), a.max(b))) {
@@ -610,7 +610,6 @@ pub fn flasher_scenario(
         },
     ))
 }
-
 
 #[cfg(test)]
 mod tests {

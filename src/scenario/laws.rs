@@ -282,7 +282,9 @@ fn direction(
                     ));
                 }
                 (Some(b), Some(_)) => {
-                    return Err(ctx.span(b, format!("hinge '{hinge}' law.{name}.stop: give 'band' or 'band_deg', not both")));
+                    return Err(
+                        ctx.span(b, format!("hinge '{hinge}' law.{name}.stop: give 'band' or 'band_deg', not both"))
+                    );
                 }
                 (None, None) => None,
             };

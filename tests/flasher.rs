@@ -286,17 +286,7 @@ fn sdirk4_runs_the_release_restraint_and_agrees_with_dop853() {
 #[test]
 fn membrane_hinges_let_a_stiff_thick_flasher_open_as_its_thin_twin() {
     use foldsim::generate::options::FlasherOptions;
-    let laws = FlasherLaws {
-        k_translation: 1e7,
-        k_rotation: 1e4,
-        k_fold: 0.2,
-        k_bending: 0.2,
-        c_translation: 100.0,
-        c_rotation: 1.0,
-        c_fold: 1.0,
-        c_bending: 1.0,
-        ..FlasherLaws::default()
-    };
+    let laws = starshade_laws();
     let base = FlasherOptions {
         gores: 4,
         rings: 2,

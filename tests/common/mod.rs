@@ -163,3 +163,20 @@ pub fn jacobian_mismatch_at(dynamics: &foldsim::dynamics::Dynamics, y: &[f64], h
     }
     worst / scale
 }
+
+/// The hinge laws of `examples/flasher-starshade.toml`'s generator options (1e7 N/m and
+/// 1e4 N·m/rad off the fold, 0.2 N·m/rad folds and panel bending, their dampings), the other
+/// laws at the generator's defaults (membrane hinges with thick panels).
+pub fn starshade_laws() -> foldsim::generate::flasher::FlasherLaws {
+    foldsim::generate::flasher::FlasherLaws {
+        k_translation: 1e7,
+        k_rotation: 1e4,
+        k_fold: 0.2,
+        k_bending: 0.2,
+        c_translation: 100.0,
+        c_rotation: 1.0,
+        c_fold: 1.0,
+        c_bending: 1.0,
+        ..Default::default()
+    }
+}

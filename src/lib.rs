@@ -22,6 +22,7 @@
 
 pub mod contact;
 pub mod dynamics;
+pub mod fit;
 pub mod generate;
 pub mod integrate;
 pub mod kinematics;

@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The top-level modules, lowest layer first: each may use only those before it.
-const LAYERS: [&str; 16] = [
+const LAYERS: [&str; 17] = [
     "math",
     "integrate",
     "law",
@@ -29,6 +29,7 @@ const LAYERS: [&str; 16] = [
     "output",
     "generate",
     "sweep",
+    "fit",
 ];
 
 /// Every `.rs` file under `dir`, sorted.

@@ -1,10 +1,12 @@
 //! What a run writes: CSV rows as they are made ([`csv_sink`]), PNG plots of output
-//! columns ([`plot`], feature `plot`), and animated glTF files ([`animation`], feature
+//! columns ([`plot`], feature `plot`) and of a fit's data against its run ([`fit_plot`]), and animated glTF files ([`animation`], feature
 //! `animation`).
 
 #[cfg(feature = "animation")]
 pub mod animation;
 pub mod csv_sink;
+#[cfg(feature = "plot")]
+pub mod fit_plot;
 pub mod npz;
 pub mod paths;
 #[cfg(feature = "plot")]

@@ -8,7 +8,8 @@ use std::sync::Once;
 
 static FONT: Once = Once::new();
 
-fn register() {
+/// Registers the embedded font (once).
+pub(crate) fn register() {
     FONT.call_once(|| {
         // DejaVu Sans (assets/DejaVuSans-LICENSE.txt): embedded so no system font is needed.
         let bytes: &'static [u8] = include_bytes!("../../assets/DejaVuSans.ttf");

@@ -30,6 +30,6 @@ pub mod switching;
 pub use accuracy::simulate;
 pub use pace::Progress;
 pub use report::{Drift, MethodSpan, PositionAccuracy, RunReport, SimError};
-pub use run::Sink;
+pub use run::{Sink, simulate_at};
 pub use settings::{Integrator, RunSettings};
 pub use stepper::Stepper;

@@ -25,6 +25,50 @@ pub(super) fn simulate_once(
     sink: &mut dyn Sink,
     progress: Option<&mut ProgressFn<'_>>,
 ) -> Result<RunReport, SimError> {
+    simulate_once_at(model, ic, settings, None, sink, progress)
+}
+
+/// A run at the integrator's own tolerances with its rows at `times` (s) instead of every
+/// `run.output_step`: each row from the step's dense output at exactly that time, as the
+/// grid's rows are (what a fit compares with measurements taken at any times, `crate::fit`).
+/// The times must be finite, strictly ascending and within [0, `run.duration`]; the run
+/// still goes on to `run.duration`. `run.position_tolerance` is refused: its runs at other
+/// tolerances are compared row by row on the grid.
+pub fn simulate_at(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    times: &[f64],
+    sink: &mut dyn Sink,
+) -> Result<RunReport, SimError> {
+    if settings.position_tolerance.is_some() {
+        return Err(SimError::Physics(
+            "run.position_tolerance: rows at chosen times are made at the integrator's own rtol and atol; leave run.position_tolerance out".into(),
+        ));
+    }
+    if times.is_empty() {
+        return Err(SimError::Physics("no output times given".into()));
+    }
+    for (i, t) in times.iter().enumerate() {
+        if !(t.is_finite() && *t >= 0.0 && *t <= settings.duration) || (i > 0 && *t <= times[i - 1]) {
+            return Err(SimError::Physics(format!(
+                "output time {t} s (the {}th): times must be finite, strictly ascending and within the run, 0 to {} s",
+                i + 1,
+                settings.duration
+            )));
+        }
+    }
+    simulate_once_at(model, ic, settings, Some(times), sink, None)
+}
+
+fn simulate_once_at(
+    model: &Model,
+    ic: &InitialConditions,
+    settings: &RunSettings,
+    times: Option<&[f64]>,
+    sink: &mut dyn Sink,
+    progress: Option<&mut ProgressFn<'_>>,
+) -> Result<RunReport, SimError> {
     if !(settings.duration > 0.0 && settings.output_step > 0.0)
         || settings.duration / settings.output_step > MAX_OUTPUT_ROWS
     {
@@ -34,6 +78,9 @@ pub(super) fn simulate_once(
         )));
     }
     let (dynamics, y0, mut state) = prepare(model, ic, settings)?;
+    if let Some(times) = times {
+        state.output_times.list = Some(times.to_vec());
+    }
     let mut out = StreamOut { dynamics: &dynamics, sink, progress, s: &mut state };
     let start = Instant::now();
     let mut end = y0.clone();
@@ -88,7 +135,13 @@ pub(super) fn prepare<'m>(
     let state = RunState {
         total_mass: model.total_mass(),
         observer: Observer::new(model, ic.hub_attitude, &dynamics.momentum_about_barycenter(&y0)),
-        output_times: OutputTimes { step: settings.output_step, end: settings.duration, next: 0, done: false },
+        output_times: OutputTimes {
+            step: settings.output_step,
+            end: settings.duration,
+            next: 0,
+            done: false,
+            list: None,
+        },
         first: None,
         last: None,
         drift: Drift::default(),

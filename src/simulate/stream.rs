@@ -115,13 +115,15 @@ fn progress_at<'p, 'm>(s: &RunState, dynamics: &'p Dynamics<'m>, step: &Step<'p>
     }
 }
 
-/// Output times `k · step` below `end`, then `end`.
-#[derive(Clone, Copy, Debug)]
+/// Output times `k · step` below `end`, then `end`; or, with `list`, those times alone
+/// (ascending, within the run: [`super::run::simulate_at`]).
+#[derive(Clone, Debug)]
 pub(super) struct OutputTimes {
     pub(super) step: f64,
     pub(super) end: f64,
     pub(super) next: u64,
     pub(super) done: bool,
+    pub(super) list: Option<Vec<f64>>,
 }
 
 impl OutputTimes {
@@ -129,10 +131,18 @@ impl OutputTimes {
         if self.done {
             return None;
         }
+        if let Some(list) = &self.list {
+            return list.get(self.next as usize).copied();
+        }
         let t = self.next as f64 * self.step;
         Some(if t < self.end - 1e-9 * self.step { t } else { self.end })
     }
     fn advance(&mut self) {
+        if let Some(list) = &self.list {
+            self.next += 1;
+            self.done = self.next as usize >= list.len();
+            return;
+        }
         if let Some(t) = self.peek() {
             if t == self.end {
                 self.done = true;

@@ -113,6 +113,39 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Fit scenario values to measurements (docs/fit.md): the values named by --free (key
+    /// paths, as sweeps name them) chosen so that the run's output columns match DATA's, by
+    /// bounded Levenberg–Marquardt; prints the fitted values with standard errors,
+    /// correlations and warnings, and writes the fitted scenario with -o.
+    Fit {
+        /// Scenario file (TOML): the free values start from its values.
+        scenario: PathBuf,
+        /// Measurements (CSV): a `t` column (s) and output columns by name (h1_yaw, deployed,
+        /// …); an empty cell is a value not measured then.
+        #[arg(long)]
+        data: PathBuf,
+        /// A value to fit, KEY or KEY=LOW:HIGH (either bound may be empty); repeat for more.
+        /// A wildcard (hinge.*.law.k_theta) ties one value across every entry it matches.
+        #[arg(long = "free", required = true)]
+        free: Vec<String>,
+        /// A column's measurement noise, COLUMN=SIGMA in its unit (its residuals are divided
+        /// by it); repeat for more. Columns without one weigh 1 in their own unit.
+        #[arg(long = "sigma")]
+        sigma: Vec<String>,
+        /// The scenario with the fitted values, to write (never over an input).
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// A PNG of the data against the fitted run.
+        #[cfg(feature = "plot")]
+        #[arg(long)]
+        plot: Option<PathBuf>,
+        /// Most Levenberg–Marquardt iterations.
+        #[arg(long, default_value_t = 100)]
+        max_iterations: usize,
+        /// Print nothing but the result and errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     /// Natural modes of a structure at rest (docs/linear.md): free-free and with the hub held,
     /// frequencies, damping ratios and the hub-fixed modes' effective masses and inertias
     /// about the hub, as a CSV table.

@@ -6,6 +6,7 @@
 #[macro_use]
 mod out;
 mod args;
+mod fit;
 mod generate;
 mod modes;
 mod report;
@@ -53,6 +54,14 @@ fn main() -> ExitCode {
         Command::View { scenario, csv, output, columns, fps } => view::view(&scenario, &csv, &output, fps, &columns),
         Command::Sweep { scenario, output, workers, runs, seed, quiet } => {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
+        }
+        #[cfg(feature = "plot")]
+        Command::Fit { scenario, data, free, sigma, output, plot, max_iterations, quiet } => {
+            fit::fit(&scenario, &data, (&free, &sigma), (output, plot), max_iterations, quiet)
+        }
+        #[cfg(not(feature = "plot"))]
+        Command::Fit { scenario, data, free, sigma, output, max_iterations, quiet } => {
+            fit::fit(&scenario, &data, (&free, &sigma), (output, None), max_iterations, quiet)
         }
         Command::Modes { scenario, output, state, spin_rate: Some(w), quiet, .. } => {
             let choice = modes::Choice { at: state.at, deployed: state.deployed, count: None };

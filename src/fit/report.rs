@@ -1,0 +1,97 @@
+//! A fit's report as text: the values with their standard errors and bounds, the warnings,
+//! the correlations, the residuals per column, and what it cost.
+
+use super::Fit;
+use super::problem::Problem;
+use std::fmt::Write;
+
+impl Fit {
+    /// The report for `problem`.
+    pub fn text(&self, problem: &Problem) -> String {
+        let mut s = String::new();
+        let st = &self.statistics;
+        let _ = writeln!(
+            s,
+            "fit of {} parameter(s) to {} values in {} column(s) of {} ({} times)",
+            problem.free.len(),
+            problem.data.count(),
+            problem.data.columns.len(),
+            problem.data.file,
+            problem.data.times.len()
+        );
+        let _ = writeln!(
+            s,
+            "  {} after {} iterations, {} runs, {:.2} s",
+            self.solution.stop.says(),
+            self.solution.iterations,
+            self.runs,
+            self.wall_seconds
+        );
+        let _ = writeln!(
+            s,
+            "  weighted residual norm {:.6e} at the start, {:.6e} fitted; residual variance s² = {:.4e} ({} degrees of freedom){}",
+            self.norm.0,
+            self.norm.1,
+            st.variance,
+            st.dof,
+            if problem.data.columns.iter().all(|c| c.sigma.is_some()) {
+                " (≈ 1 if the σ given are the noise's)"
+            } else {
+                ""
+            }
+        );
+        let width = problem.free.iter().map(|f| f.path.len()).max().unwrap_or(0).max(9);
+        let _ = writeln!(
+            s,
+            "  {:width$}  {:>14}  {:>12}  {:>8}  {:>14}  bounds",
+            "parameter", "fitted", "std. error", "rel.", "start"
+        );
+        for (f, e) in problem.free.iter().zip(&st.estimates) {
+            let (se, rel) = match e.standard_error {
+                Some(se) => (format!("{se:.4e}"), format!("{:.3} %", 100.0 * se / e.value.abs())),
+                None => ("–".into(), "–".into()),
+            };
+            let bound = |b: f64| if b.is_finite() { format!("{b}") } else { String::new() };
+            let _ = writeln!(
+                s,
+                "  {:width$}  {:>14.8e}  {:>12}  {:>8}  {:>14.6e}  {}:{}",
+                f.path,
+                e.value,
+                se,
+                rel,
+                f.start,
+                bound(f.low),
+                bound(f.high)
+            );
+        }
+        for (f, e) in problem.free.iter().zip(&st.estimates) {
+            if let Some(w) = &e.warning {
+                let _ = writeln!(s, "  WARNING {}: {w}", f.path);
+            }
+        }
+        let n = problem.free.len();
+        if n > 1 {
+            let _ = writeln!(s, "  correlations (condition number of the scaled Jacobian {:.3e}):", st.condition);
+            for a in 0..n {
+                let row: Vec<String> = (0..n)
+                    .map(|b| {
+                        let c = st.correlation[(a, b)];
+                        if c.is_finite() { format!("{c:>7.3}") } else { format!("{:>7}", "–") }
+                    })
+                    .collect();
+                let _ = writeln!(s, "    {:width$}  {}", problem.free[a].path, row.join(" "));
+            }
+        }
+        let _ = writeln!(s, "  residuals (fitted run − data), root mean square per column, in its unit:");
+        for (c, (rms, count)) in problem.data.columns.iter().zip(&self.rms) {
+            let sigma = c.sigma.map(|v| format!(" (σ given {v:.3e})")).unwrap_or_default();
+            let _ = writeln!(
+                s,
+                "    {:16} {rms:.4e} {} over {count} values{sigma}",
+                c.name,
+                crate::output::units::unit_of(&c.name)
+            );
+        }
+        s
+    }
+}

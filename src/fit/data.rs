@@ -40,14 +40,18 @@ impl Data {
     }
 
     /// Parses CSV `text` (labelled `file` in errors): a header with `t` and output columns
-    /// of `model`, then one row per time. Refused, with the line or column named: a column
+    /// of `model`, then one row per time; blank lines and lines starting with `#` are skipped. Refused, with the line or column named: a column
     /// that is no output of the model (or named twice), no `t` column or no other column, a
     /// cell that is not a number (`NaN` and infinities included; an empty cell means "not
     /// measured then", except in `t`), times not strictly ascending or outside the run (0 to
     /// `duration` s), a row of the wrong length, fewer than two rows, a column with no value.
     pub fn parse(text: &str, file: &str, model: &Model, duration: f64) -> Result<Self, String> {
         let err = |line: usize, m: String| format!("{file}:{line}: {m}");
-        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l))
+            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
         let Some((header_line, header)) = lines.next() else {
             return Err(format!("{file}: empty; a data file has a header (t and output columns) and rows of numbers"));
         };

@@ -54,8 +54,7 @@ pub fn fit(problem: &Problem, options: &lm::Options, on_iteration: &mut dyn FnMu
         on_iteration(iteration, norm);
         problem.jacobian(x, r)
     };
-    let solution = lm::minimize(&x0, &low, &high, &mut residuals, &mut jacobian, options)
-        .map_err(|e| format!("at the start: {e}"))?;
+    let solution = lm::minimize(&x0, &low, &high, &mut residuals, &mut jacobian, options)?;
     let statistics = stats::statistics(&solution.x, &low, &high, &solution.residuals, &solution.jacobian);
     let predicted = problem.predict(&solution.x)?;
     let rms = problem

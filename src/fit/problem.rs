@@ -54,7 +54,7 @@ impl Problem {
     /// The run's values of the measured columns at the data's times (per column, per time),
     /// with the free values at `x`.
     pub fn predict(&self, x: &[f64]) -> Result<Vec<Vec<f64>>, String> {
-        let s = self.scenario_at(x)?.build().map_err(|e| e.to_string())?;
+        let s = self.scenario_at(x)?.build().map_err(|e| format!("the run with {}: {e}", self.describe(x)))?;
         let settings = RunSettings { hinge_loads: self.hinge_loads, ..s.settings };
         let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(self.data.times.len()); self.data.columns.len()];
         let mut sink = |o: &Observation| -> Result<(), String> {
@@ -74,7 +74,12 @@ impl Problem {
 
     /// The free values as `path = value` pairs, for messages.
     pub fn describe(&self, x: &[f64]) -> String {
-        self.free.iter().zip(x).map(|(f, v)| format!("{} = {v}", f.path)).collect::<Vec<_>>().join(", ")
+        self.free
+            .iter()
+            .zip(x)
+            .map(|(f, v)| format!("{} = {}", f.path, crate::math::short(*v)))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 
     /// The weighted residuals `(run − measured) / σ` over every measured cell, column by
@@ -113,7 +118,8 @@ impl Problem {
             .zip(x)
             .map(|(f, &v)| {
                 let width = if (f.high - f.low).is_finite() { 1e-3 * (f.high - f.low) } else { 0.0 };
-                let h = DIFFERENCE_STEP * v.abs().max(f.start.abs()).max(width).max(1e-12);
+                // Zero without bounds has no size of its own: 1e-6 in the key's unit.
+                let h = DIFFERENCE_STEP * v.abs().max(f.start.abs()).max(width).max(1e-6);
                 // Points (x + a h, x + b h) and the derivative's weights follow below.
                 if v + h > f.high {
                     (-h, -2.0 * h, h)
@@ -136,7 +142,18 @@ impl Problem {
         let m = self.data.count();
         let mut j = DMatrix::zeros(m, x.len());
         for (k, &(a, b, h)) in steps.iter().enumerate() {
-            let (ra, rb) = (results[2 * k].as_ref()?, results[2 * k + 1].as_ref()?);
+            let (ra, rb) = match (&results[2 * k], &results[2 * k + 1]) {
+                (Ok(ra), Ok(rb)) => (ra, rb),
+                (Err(e), _) | (_, Err(e)) => {
+                    // A value the scenario refuses on one side (a damping that starts at 0
+                    // and would turn negative): the one-sided formula on the other side.
+                    let column = self
+                        .one_sided(x, r, k, if a + b == 0.0 { vec![h, -h] } else { vec![-a] })
+                        .map_err(|_| e.clone())?;
+                    j.set_column(k, &column);
+                    continue;
+                }
+            };
             for i in 0..m {
                 j[(i, k)] = if a + b == 0.0 {
                     (ra[i] - rb[i]) / (2.0 * h)
@@ -147,5 +164,37 @@ impl Problem {
             }
         }
         Ok(j)
+    }
+
+    /// Column `k` of the Jacobian by the one-sided second-order formula, trying the step
+    /// directions `tries` (signed steps) in turn until both of its runs succeed.
+    fn one_sided(
+        &self,
+        x: &[f64],
+        r: &[f64],
+        k: usize,
+        tries: impl IntoIterator<Item = f64>,
+    ) -> Result<nalgebra::DVector<f64>, String> {
+        let mut last = Err(String::new());
+        for h in tries {
+            let f = self.free.get(k).ok_or("no such parameter")?;
+            if x[k] + 2.0 * h > f.high || x[k] + 2.0 * h < f.low {
+                continue;
+            }
+            let at = |d: f64| {
+                let mut y = x.to_vec();
+                y[k] += d;
+                self.residuals(&y)
+            };
+            match (at(h), at(2.0 * h)) {
+                (Ok(ra), Ok(rb)) => {
+                    return Ok(nalgebra::DVector::from_fn(r.len(), |i, _| {
+                        (-3.0 * r[i] + 4.0 * ra[i] - rb[i]) / (2.0 * h)
+                    }));
+                }
+                (Err(e), _) | (_, Err(e)) => last = Err(e),
+            }
+        }
+        last
     }
 }

@@ -9,6 +9,7 @@
 //! - `sweep`: the `Sweep` class.
 
 mod convert;
+mod fit;
 mod generate;
 mod linear;
 mod scenario;
@@ -65,6 +66,7 @@ fn _foldsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sweep::Sweep>()?;
     m.add_class::<simulation::Simulation>()?;
     m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(generate::zfold, m)?)?;
     m.add_function(wrap_pyfunction!(generate::grid, m)?)?;
     m.add_function(wrap_pyfunction!(generate::flasher, m)?)?;

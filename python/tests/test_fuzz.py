@@ -1,6 +1,6 @@
 """Fuzzing the Python values: random nested values (dicts, lists, tuples, NumPy arrays and
 scalars, bytes, None, sets, non-finite and huge numbers, odd strings, values that contain
-themselves) given to from_dict, with_values, get, sweep and linearize's keywords. Each must give a scenario or raise
+themselves) given to from_dict, with_values, get, sweep, fit and linearize's keywords. Each must give a scenario or raise
 ValueError, TypeError or KeyError; never crash the interpreter, never another exception.
 
 A small budget as a test; longer: FOLDSIM_FUZZ_INPUTS=5000 FOLDSIM_FUZZ_SEED=7 pytest python/tests/test_fuzz.py
@@ -76,9 +76,18 @@ def test_python_values_give_a_scenario_or_a_named_exception():
     rng = random.Random(seed)
     counts = {"built": 0, "refused": 0}
     for i in range(n):
-        kind = rng.randrange(5)
+        kind = rng.randrange(6)
         try:
-            if kind == 4:
+            if kind == 5:
+                # A fit: data, free values and noise levels of any Python values.
+                t = [0.02, 0.05, 0.08] if rng.random() < 0.6 else value(rng)
+                data = {"t": t, rng.choice(["h1_yaw", "h1_pitch", "E", "nope", 3]): value(rng) if rng.random() < 0.4 else [0.1, leaf(rng), None]}
+                if rng.random() < 0.2:
+                    data = value(rng)
+                free = rng.choice([["hinge.h1.law.k_theta=1:100"], {"hinge.h1.law.c_theta": (0, 5)}, value(rng), {rng.choice(PATHS): value(rng)}])
+                sigma = rng.choice([None, {"h1_yaw": leaf(rng)}, value(rng)])
+                foldsim.fit(BASE, data, free=free, sigma=sigma, max_iterations=rng.choice([2, 0, leaf(rng)]))
+            elif kind == 4:
                 # The linear model, reduced or not, with any values for its keywords.
                 BASE.linearize(deployed=rng.random() < 0.8, modes=rng.choice([None, 1, 3, 6, leaf(rng)]), hub_held=rng.choice([False, True, leaf(rng)]))
             elif kind == 0:
@@ -95,7 +104,7 @@ def test_python_values_give_a_scenario_or_a_named_exception():
             counts["refused"] += 1
         except RuntimeError as e:
             # Every run of a sweep failed: a refusal in words, with the first run's error.
-            assert kind == 3 and "every run of the sweep failed" in str(e), f"seed {seed} input {i}: {e!r}"
+            assert (kind == 3 and "every run of the sweep failed" in str(e)) or (kind == 5 and "the run with" in str(e)), f"seed {seed} input {i}: {e!r}"
             counts["refused"] += 1
         except Exception as e:  # noqa: BLE001: the point is to catch any other kind
             raise AssertionError(f"seed {seed} input {i} (kind {kind}): {type(e).__name__}: {e}") from e

@@ -12,6 +12,7 @@
     z = foldsim.generate.zfold(8, k_fold=2.0)             # the generators
     table = foldsim.sweep("examples/sweep-paper-1panel.toml")   # a DataFrame, one row per run
     table = foldsim.sweep(s, client=dask_client)          # the same table from a Dask cluster
+    f = foldsim.fit(s, "data.csv", free={"hinge.h1.law.k_theta": (1, 100)})   # fit to measurements
 """
 
 from __future__ import annotations
@@ -28,8 +29,9 @@ from ._checks import path_arg
 from ._foldsim import Scenario as _Scenario
 from ._foldsim import __version__
 from .sweeps import sweep
+from .fitting import FitResult, fit
 
-__all__ = ["Result", "Scenario", "Simulation", "State", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
+__all__ = ["FitResult", "fit", "Result", "Scenario", "Simulation", "State", "load", "from_toml", "from_dict", "generate", "sweep", "__version__"]
 
 
 class Result:

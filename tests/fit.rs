@@ -6,7 +6,7 @@ mod common;
 
 use foldsim::fit::data::Data;
 use foldsim::fit::problem::Problem;
-use foldsim::fit::{Fit, fit, lm, params};
+use foldsim::fit::{Fit, Fitted, fit, lm, params};
 use foldsim::scenario::{ScenarioText, SetValue};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -83,13 +83,14 @@ pub fn fit<'py>(
     d.set_item("wall_seconds", result.wall_seconds)?;
     d.set_item("residual_norm", result.norm)?;
     let columns = PyDict::new(py);
-    for ((c, p), (rms, count)) in problem.data.columns.iter().zip(&result.predicted).zip(&result.rms) {
+    for (c, (rms, count)) in result.columns.iter().zip(&result.rms) {
         let cd = PyDict::new(py);
-        cd.set_item("fitted", p.clone().into_pyarray(py))?;
-        cd.set_item("measured", c.values.iter().map(|v| v.unwrap_or(f64::NAN)).collect::<Vec<_>>().into_pyarray(py))?;
+        cd.set_item("fitted", c.fitted.clone().into_pyarray(py))?;
+        cd.set_item("measured", c.measured.iter().map(|v| v.unwrap_or(f64::NAN)).collect::<Vec<_>>().into_pyarray(py))?;
         cd.set_item("rms", rms)?;
         cd.set_item("count", count)?;
         cd.set_item("sigma", c.sigma)?;
+        cd.set_item("unit", c.unit)?;
         columns.set_item(&c.name, cd)?;
     }
     d.set_item("columns", columns)?;

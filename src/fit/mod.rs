@@ -6,14 +6,54 @@
 //! beside `sweep`: it edits scenario text and runs it, and nothing below knows of it.
 
 pub mod data;
+pub mod differences;
 pub mod lm;
 pub mod params;
 pub mod problem;
 pub mod report;
 pub mod stats;
 
-use problem::Problem;
+use params::Free;
 use stats::Statistics;
+
+/// One measured column beside the fitted model's values at the same points: for the
+/// residuals per column, the report and the plot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Column {
+    /// The column's name (an output column's, or `moment` / `force` for a law alone).
+    pub name: String,
+    /// Its unit.
+    pub unit: &'static str,
+    /// Where each value is: the time (s), or the coordinate a law is driven through.
+    pub abscissa: Vec<f64>,
+    /// The measurements (`None`: not measured there).
+    pub measured: Vec<Option<f64>>,
+    /// The model's values there.
+    pub fitted: Vec<f64>,
+    /// The noise level given for it, if any.
+    pub sigma: Option<f64>,
+}
+
+/// A least-squares problem over free values: a scenario's runs against measured columns
+/// ([`problem::Problem`]), or a hinge law's response against a bench test
+/// ([`law::LawProblem`]).
+pub trait Fitted: Sync {
+    /// The free values.
+    fn free(&self) -> &[Free];
+    /// The weighted residuals (model − measured) / σ at `x`.
+    fn residuals(&self, x: &[f64]) -> Result<Vec<f64>, String>;
+    /// The measured columns beside the model's values at `x`.
+    fn columns(&self, x: &[f64]) -> Result<Vec<Column>, String>;
+    /// What is fitted to, for the report's first line.
+    fn data_summary(&self) -> String;
+    /// The columns' abscissa, with its unit, for the plot (`t (s)`).
+    fn abscissa(&self) -> String;
+    /// The residuals' Jacobian at `x`, where they are `r`: by differences, the evaluations
+    /// in parallel ([`differences::jacobian`]).
+    fn jacobian(&self, x: &[f64], r: &[f64]) -> Result<nalgebra::DMatrix<f64>, String> {
+        differences::jacobian(self.free(), x, r, &|y: &[f64]| self.residuals(y))
+    }
+}
 
 /// A finished fit.
 #[derive(Clone, Debug)]
@@ -27,8 +67,8 @@ pub struct Fit {
     pub rms: Vec<(f64, usize)>,
     /// The start's weighted residual norm `|r|`, and the optimum's.
     pub norm: (f64, f64),
-    /// The fitted run's values of the measured columns at the data's times.
-    pub predicted: Vec<Vec<f64>>,
+    /// The measured columns beside the fitted model's values.
+    pub columns: Vec<Column>,
     /// Runs made (each residual evaluation one, each Jacobian two per parameter).
     pub runs: usize,
     /// Wall time, s.
@@ -37,11 +77,16 @@ pub struct Fit {
 
 /// Fits `problem` from its free values' starts. `on_iteration` is told each iteration's
 /// number and weighted residual norm (for a terminal's progress line).
-pub fn fit(problem: &Problem, options: &lm::Options, on_iteration: &mut dyn FnMut(usize, f64)) -> Result<Fit, String> {
+pub fn fit(
+    problem: &dyn Fitted,
+    options: &lm::Options,
+    on_iteration: &mut dyn FnMut(usize, f64),
+) -> Result<Fit, String> {
     let started = std::time::Instant::now();
-    let x0: Vec<f64> = problem.free.iter().map(|f| f.start).collect();
-    let low: Vec<f64> = problem.free.iter().map(|f| f.low).collect();
-    let high: Vec<f64> = problem.free.iter().map(|f| f.high).collect();
+    let free = problem.free();
+    let x0: Vec<f64> = free.iter().map(|f| f.start).collect();
+    let low: Vec<f64> = free.iter().map(|f| f.low).collect();
+    let high: Vec<f64> = free.iter().map(|f| f.high).collect();
     let mut start_norm = f64::NAN;
     let mut iteration = 0;
     let mut residuals = |x: &[f64]| problem.residuals(x);
@@ -56,25 +101,22 @@ pub fn fit(problem: &Problem, options: &lm::Options, on_iteration: &mut dyn FnMu
     };
     let solution = lm::minimize(&x0, &low, &high, &mut residuals, &mut jacobian, options)?;
     let statistics = stats::statistics(&solution.x, &low, &high, &solution.residuals, &solution.jacobian);
-    let predicted = problem.predict(&solution.x)?;
-    let rms = problem
-        .data
-        .columns
+    let columns = problem.columns(&solution.x)?;
+    let rms = columns
         .iter()
-        .zip(&predicted)
-        .map(|(c, p)| {
-            let d: Vec<f64> = c.values.iter().zip(p).filter_map(|(v, q)| v.map(|v| q - v)).collect();
-            ((d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt(), d.len())
+        .map(|c| {
+            let d: Vec<f64> = c.measured.iter().zip(&c.fitted).filter_map(|(v, q)| v.map(|v| q - v)).collect();
+            ((d.iter().map(|x| x * x).sum::<f64>() / d.len().max(1) as f64).sqrt(), d.len())
         })
         .collect();
     let end_norm = solution.residuals.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let runs = solution.evaluations + 2 * problem.free.len() * iteration + 1;
+    let runs = solution.evaluations + 2 * free.len() * iteration + 1;
     Ok(Fit {
         solution,
         statistics,
         rms,
         norm: (start_norm, end_norm),
-        predicted,
+        columns,
         runs,
         wall_seconds: started.elapsed().as_secs_f64(),
     })

@@ -1,19 +1,12 @@
 //! A fit's least-squares problem: the scenario with its free values set, run with rows at the
-//! measurement times ([`crate::simulate::simulate_at`]), its columns against the data; the
-//! Jacobian by central differences, the perturbed runs in parallel on every core.
+//! measurement times ([`crate::simulate::simulate_at`]), its columns against the data (the
+//! Jacobian by differences, the perturbed runs in parallel: [`super::differences`]).
 
 use super::data::Data;
 use super::params::Free;
 use crate::observe::{Observation, is_hinge_load, row};
 use crate::scenario::{ScenarioText, SetValue};
 use crate::simulate::{RunSettings, simulate_at};
-use nalgebra::DMatrix;
-use rayon::prelude::*;
-
-/// The relative step of the central differences: about the cube root of the runs' relative
-/// error at rtol 1e-12..1e-15 (truncation h² against noise ε/h; Nocedal & Wright, *Numerical
-/// Optimization*, §8.1).
-pub const DIFFERENCE_STEP: f64 = 6e-6;
 
 /// The scenario, the free values and the data.
 #[derive(Clone, Debug)]
@@ -96,9 +89,47 @@ impl Problem {
         }
         r
     }
+}
+
+impl super::Fitted for Problem {
+    fn free(&self) -> &[Free] {
+        &self.free
+    }
+
+    fn data_summary(&self) -> String {
+        format!(
+            "{} values in {} column(s) of {} ({} times)",
+            self.data.count(),
+            self.data.columns.len(),
+            self.data.file,
+            self.data.times.len()
+        )
+    }
+
+    fn abscissa(&self) -> String {
+        "t (s)".into()
+    }
+
+    fn columns(&self, x: &[f64]) -> Result<Vec<super::Column>, String> {
+        let p = self.predict(x)?;
+        Ok(self
+            .data
+            .columns
+            .iter()
+            .zip(p)
+            .map(|(c, fitted)| super::Column {
+                name: c.name.clone(),
+                unit: crate::output::units::unit_of(&c.name),
+                abscissa: self.data.times.clone(),
+                measured: c.values.clone(),
+                fitted,
+                sigma: c.sigma,
+            })
+            .collect())
+    }
 
     /// The weighted residuals at `x`.
-    pub fn residuals(&self, x: &[f64]) -> Result<Vec<f64>, String> {
+    fn residuals(&self, x: &[f64]) -> Result<Vec<f64>, String> {
         let p = self.predict(x)?;
         let r = self.residuals_of(&p);
         if r.iter().all(|v| v.is_finite()) {
@@ -106,95 +137,5 @@ impl Problem {
         } else {
             Err(format!("the run with {} gave a non-finite value at a measurement time", self.describe(x)))
         }
-    }
-
-    /// The residuals' Jacobian at `x` (where they are `r`) by central differences of step [`DIFFERENCE_STEP`]
-    /// times the parameter's size (one-sided, second order, where the step would cross a
-    /// bound), the 2 per parameter runs in parallel.
-    pub fn jacobian(&self, x: &[f64], r: &[f64]) -> Result<DMatrix<f64>, String> {
-        let steps: Vec<(f64, f64, f64)> = self
-            .free
-            .iter()
-            .zip(x)
-            .map(|(f, &v)| {
-                let width = if (f.high - f.low).is_finite() { 1e-3 * (f.high - f.low) } else { 0.0 };
-                // Zero without bounds has no size of its own: 1e-6 in the key's unit.
-                let h = DIFFERENCE_STEP * v.abs().max(f.start.abs()).max(width).max(1e-6);
-                // Points (x + a h, x + b h) and the derivative's weights follow below.
-                if v + h > f.high {
-                    (-h, -2.0 * h, h)
-                } else if v - h < f.low {
-                    (h, 2.0 * h, h)
-                } else {
-                    (h, -h, h)
-                }
-            })
-            .collect();
-        let runs: Vec<(usize, f64)> = steps.iter().enumerate().flat_map(|(k, &(a, b, _))| [(k, a), (k, b)]).collect();
-        let results: Vec<Result<Vec<f64>, String>> = runs
-            .par_iter()
-            .map(|&(k, d)| {
-                let mut y = x.to_vec();
-                y[k] += d;
-                self.residuals(&y)
-            })
-            .collect();
-        let m = self.data.count();
-        let mut j = DMatrix::zeros(m, x.len());
-        for (k, &(a, b, h)) in steps.iter().enumerate() {
-            let (ra, rb) = match (&results[2 * k], &results[2 * k + 1]) {
-                (Ok(ra), Ok(rb)) => (ra, rb),
-                (Err(e), _) | (_, Err(e)) => {
-                    // A value the scenario refuses on one side (a damping that starts at 0
-                    // and would turn negative): the one-sided formula on the other side.
-                    let column = self
-                        .one_sided(x, r, k, if a + b == 0.0 { vec![h, -h] } else { vec![-a] })
-                        .map_err(|_| e.clone())?;
-                    j.set_column(k, &column);
-                    continue;
-                }
-            };
-            for i in 0..m {
-                j[(i, k)] = if a + b == 0.0 {
-                    (ra[i] - rb[i]) / (2.0 * h)
-                } else {
-                    // (−3 f(x) + 4 f(x ± h) − f(x ± 2h)) / (±2h).
-                    (-3.0 * r[i] + 4.0 * ra[i] - rb[i]) / (2.0 * a)
-                };
-            }
-        }
-        Ok(j)
-    }
-
-    /// Column `k` of the Jacobian by the one-sided second-order formula, trying the step
-    /// directions `tries` (signed steps) in turn until both of its runs succeed.
-    fn one_sided(
-        &self,
-        x: &[f64],
-        r: &[f64],
-        k: usize,
-        tries: impl IntoIterator<Item = f64>,
-    ) -> Result<nalgebra::DVector<f64>, String> {
-        let mut last = Err(String::new());
-        for h in tries {
-            let f = self.free.get(k).ok_or("no such parameter")?;
-            if x[k] + 2.0 * h > f.high || x[k] + 2.0 * h < f.low {
-                continue;
-            }
-            let at = |d: f64| {
-                let mut y = x.to_vec();
-                y[k] += d;
-                self.residuals(&y)
-            };
-            match (at(h), at(2.0 * h)) {
-                (Ok(ra), Ok(rb)) => {
-                    return Ok(nalgebra::DVector::from_fn(r.len(), |i, _| {
-                        (-3.0 * r[i] + 4.0 * ra[i] - rb[i]) / (2.0 * h)
-                    }));
-                }
-                (Err(e), _) | (_, Err(e)) => last = Err(e),
-            }
-        }
-        last
     }
 }

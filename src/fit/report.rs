@@ -1,24 +1,16 @@
 //! A fit's report as text: the values with their standard errors and bounds, the warnings,
 //! the correlations, the residuals per column, and what it cost.
 
-use super::Fit;
-use super::problem::Problem;
+use super::{Fit, Fitted};
 use std::fmt::Write;
 
 impl Fit {
     /// The report for `problem`.
-    pub fn text(&self, problem: &Problem) -> String {
+    pub fn text(&self, problem: &dyn Fitted) -> String {
         let mut s = String::new();
         let st = &self.statistics;
-        let _ = writeln!(
-            s,
-            "fit of {} parameter(s) to {} values in {} column(s) of {} ({} times)",
-            problem.free.len(),
-            problem.data.count(),
-            problem.data.columns.len(),
-            problem.data.file,
-            problem.data.times.len()
-        );
+        let free = problem.free();
+        let _ = writeln!(s, "fit of {} parameter(s) to {}", free.len(), problem.data_summary());
         let _ = writeln!(
             s,
             "  {} after {} iterations, {} runs, {:.2} s",
@@ -34,19 +26,19 @@ impl Fit {
             self.norm.1,
             st.variance,
             st.dof,
-            if problem.data.columns.iter().all(|c| c.sigma.is_some()) {
+            if self.columns.iter().all(|c| c.sigma.is_some()) {
                 " (≈ 1 if the σ given are the noise's)"
             } else {
                 ""
             }
         );
-        let width = problem.free.iter().map(|f| f.path.len()).max().unwrap_or(0).max(9);
+        let width = free.iter().map(|f| f.path.len()).max().unwrap_or(0).max(9);
         let _ = writeln!(
             s,
             "  {:width$}  {:>14}  {:>12}  {:>8}  {:>14}  bounds",
             "parameter", "fitted", "std. error", "rel.", "start"
         );
-        for (f, e) in problem.free.iter().zip(&st.estimates) {
+        for (f, e) in free.iter().zip(&st.estimates) {
             let (se, rel) = match e.standard_error {
                 Some(se) => (format!("{se:.4e}"), format!("{:.3} %", 100.0 * se / e.value.abs())),
                 None => ("–".into(), "–".into()),
@@ -64,12 +56,12 @@ impl Fit {
                 bound(f.high)
             );
         }
-        for (f, e) in problem.free.iter().zip(&st.estimates) {
+        for (f, e) in free.iter().zip(&st.estimates) {
             if let Some(w) = &e.warning {
                 let _ = writeln!(s, "  WARNING {}: {w}", f.path);
             }
         }
-        let n = problem.free.len();
+        let n = free.len();
         if n > 1 {
             let _ = writeln!(s, "  correlations (condition number of the scaled Jacobian {:.3e}):", st.condition);
             for a in 0..n {
@@ -79,18 +71,13 @@ impl Fit {
                         if c.is_finite() { format!("{c:>7.3}") } else { format!("{:>7}", "–") }
                     })
                     .collect();
-                let _ = writeln!(s, "    {:width$}  {}", problem.free[a].path, row.join(" "));
+                let _ = writeln!(s, "    {:width$}  {}", free[a].path, row.join(" "));
             }
         }
-        let _ = writeln!(s, "  residuals (fitted run − data), root mean square per column, in its unit:");
-        for (c, (rms, count)) in problem.data.columns.iter().zip(&self.rms) {
+        let _ = writeln!(s, "  residuals (fitted model − data), root mean square per column, in its unit:");
+        for (c, (rms, count)) in self.columns.iter().zip(&self.rms) {
             let sigma = c.sigma.map(|v| format!(" (σ given {v:.3e})")).unwrap_or_default();
-            let _ = writeln!(
-                s,
-                "    {:16} {rms:.4e} {} over {count} values{sigma}",
-                c.name,
-                crate::output::units::unit_of(&c.name)
-            );
+            let _ = writeln!(s, "    {:16} {rms:.4e} {} over {count} values{sigma}", c.name, c.unit);
         }
         s
     }

@@ -440,5 +440,18 @@ fn table(
         (None, Some(p)) => p.iter().map(|p| (p[0], p[1])).collect(),
         _ => return Err(here("give either file = \"….csv\" or points = [[q, f], …] (SI units)".into())),
     };
+    let points = match &r.scale {
+        None => points,
+        Some(scale) => {
+            let k = *scale.get_ref();
+            if !(k.is_finite() && k > 0.0) {
+                return Err(ctx.span(
+                    scale,
+                    format!("hinge '{hinge}' law.{name} table: scale = {k} multiplies the table's values; give a finite number > 0"),
+                ));
+            }
+            points.into_iter().map(|(q, f)| (q, k * f)).collect()
+        }
+    };
     Table::new(&points, interpolation, outside).map_err(here)
 }

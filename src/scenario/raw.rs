@@ -195,6 +195,9 @@ pub(super) struct RawDirection {
 pub(super) struct RawTable {
     pub(super) file: Option<String>,
     pub(super) points: Option<Vec<Exact<f64, 2>>>,
+    /// Multiplies the table's values (forces, moments): a measured curve's shape with its
+    /// magnitude set or fitted (docs/fit.md).
+    pub(super) scale: Option<Spanned<f64>>,
     pub(super) interpolation: Spanned<String>,
     pub(super) outside: Spanned<String>,
 }

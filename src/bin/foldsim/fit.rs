@@ -1,6 +1,6 @@
 //! `foldsim fit`: scenario values fitted to measurements (docs/fit.md).
 
-use foldsim::fit::{data::Data, lm, params, problem::Problem};
+use foldsim::fit::{Fit, Fitted, data::Data, lm, params, problem::Problem};
 use foldsim::output::paths::{check_outputs, write_atomically};
 use foldsim::scenario::ScenarioText;
 use std::io::IsTerminal;
@@ -78,18 +78,29 @@ pub(crate) fn fit(
     }
     #[cfg(feature = "plot")]
     if let Some(p) = &plot {
-        let columns: Vec<foldsim::output::fit_plot::Compared> = problem
-            .data
-            .columns
-            .iter()
-            .zip(&result.predicted)
-            .map(|(c, fitted)| foldsim::output::fit_plot::Compared { name: &c.name, measured: &c.values, fitted })
-            .collect();
         let title = format!("{} fitted to {}", scenario.display(), data.display());
-        foldsim::output::fit_plot::plot_fit(&problem.data.times, &columns, &title, p)?;
-        crate::out::print(&format!("plot: {}\n", p.display()))?;
+        draw(&result, &problem.abscissa(), &title, p)?;
     }
     #[cfg(not(feature = "plot"))]
     let _ = plot;
     Ok(())
+}
+
+/// Writes the fit's PNG: each column's data against the fitted model.
+#[cfg(feature = "plot")]
+fn draw(result: &Fit, x_label: &str, title: &str, out: &Path) -> Result<(), String> {
+    use foldsim::output::fit_plot::{Compared, plot_fit};
+    let columns: Vec<Compared> = result
+        .columns
+        .iter()
+        .map(|c| Compared {
+            name: &c.name,
+            unit: c.unit,
+            abscissa: &c.abscissa,
+            measured: &c.measured,
+            fitted: &c.fitted,
+        })
+        .collect();
+    plot_fit(&columns, x_label, title, out)?;
+    crate::out::print(&format!("plot: {}\n", out.display()))
 }

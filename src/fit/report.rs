@@ -64,14 +64,14 @@ impl Fit {
         let n = free.len();
         if n > 1 {
             let _ = writeln!(s, "  correlations (condition number of the scaled Jacobian {:.3e}):", st.condition);
-            for a in 0..n {
+            for (a, f) in free.iter().enumerate() {
                 let row: Vec<String> = (0..n)
                     .map(|b| {
                         let c = st.correlation[(a, b)];
                         if c.is_finite() { format!("{c:>7.3}") } else { format!("{:>7}", "–") }
                     })
                     .collect();
-                let _ = writeln!(s, "    {:width$}  {}", free[a].path, row.join(" "));
+                let _ = writeln!(s, "    {:width$}  {}", f.path, row.join(" "));
             }
         }
         let _ = writeln!(s, "  residuals (fitted model − data), root mean square per column, in its unit:");

@@ -57,6 +57,15 @@ fn seeds() -> Vec<(String, String)> {
     let (thick, _) = o.scenario(&|k: &str| k.to_string()).expect("a small thick flasher");
     assert!(thick.contains("free = \"within\""), "the thick flasher has no membrane hinges: update this seed");
     out.push(("flasher3x1-thick".into(), thick));
+    // A table's scale (docs/scenario.md), for the mutations to reach its key.
+    let tape = std::fs::read_to_string(dir.join("zfold-tape-latch.toml")).unwrap();
+    let scaled = tape.replacen(
+        "interpolation = \"linear\", outside = \"extend\" }",
+        "interpolation = \"linear\", outside = \"extend\", scale = 1.1 }",
+        2,
+    );
+    assert!(scaled.contains("scale = 1.1"), "the tape-latch example's tables changed: update this seed");
+    out.push(("zfold-tape-latch-scaled".into(), scaled));
     out
 }
 

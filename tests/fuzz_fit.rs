@@ -108,6 +108,7 @@ fn fuzzed_fit_inputs_end_in_a_fit_or_a_named_refusal() {
         let sigma: Vec<(String, f64)> = (0..sigmas)
             .map(|_| (rng.pick(COLUMNS).to_string(), *rng.pick(&[1e-3, 0.0, -1.0, f64::NAN, 1e300])))
             .collect();
+        let took = Instant::now();
         let outcome = catch_unwind(AssertUnwindSafe(|| {
             let mut d = Data::parse(&data, "d.csv", &model.model, model.settings.duration)?;
             for (c, s) in &sigma {
@@ -121,6 +122,9 @@ fn fuzzed_fit_inputs_end_in_a_fit_or_a_named_refusal() {
             Ok::<_, String>((p, result))
         }));
         let what = format!("seed {seed} input {i}: data\n{data}\nfree {free:?} sigma {sigma:?}");
+        if std::env::var("FIT_FUZZ_SHOW").is_ok() && took.elapsed().as_secs_f64() > 1.0 {
+            println!("slow ({:.1} s): {what}", took.elapsed().as_secs_f64());
+        }
         match outcome {
             Err(_) => panic!("{what}: panicked"),
             Ok(Err(e)) => {
@@ -143,4 +147,76 @@ fn fuzzed_fit_inputs_end_in_a_fit_or_a_named_refusal() {
         "fit fuzz, seed {seed}: {n} inputs, {fitted} fitted, {refused} refused in words, {:.1} s",
         started.elapsed().as_secs_f64()
     );
+}
+
+/// The law file, the bench test and the arguments of `foldsim fit --law`: random bench files
+/// (headers, cells, lengths), law files with numbers and words replaced, and free values; a
+/// fit or a refusal that names the file, the argument or the law's values.
+#[test]
+fn fuzzed_law_fits_end_in_a_fit_or_a_named_refusal() {
+    use foldsim::fit::law::{Bench, LawProblem};
+    let n = std::env::var("FOLDSIM_FUZZ_INPUTS").ok().and_then(|v| v.parse().ok()).unwrap_or(150);
+    let seed: u64 = std::env::var("FOLDSIM_FUZZ_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D ^ seed.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let law = std::fs::read_to_string(common::repo("examples/laws/tape-spring.toml")).unwrap();
+    let words: Vec<&str> = ["1.0", "1300.0", "\"linear\"", "\"extend\"", "\"euler\"", "\"free\""].to_vec();
+    let headers = ["angle_deg,moment_Nm", "angle_rad,moment_Nm", "displacement_m,force_N", "t,h1_yaw", "angle_deg", ""];
+    let free_args = [
+        "law.rz.tape_spring.increasing.scale=0.5:2",
+        "law.rz.tape_spring.decreasing.scale",
+        "law.rz.tape_spring.transition_stiffness=1:1e5",
+        "law.type",
+        "law.rz.nothing",
+        "law.x",
+        "title",
+    ];
+    let (mut fitted, mut refused) = (0, 0);
+    for i in 0..n {
+        let mut text = law.clone();
+        if rng.below(2) == 0 {
+            let w = *rng.pick(&words);
+            let with = *rng.pick(EXTREMES);
+            text = text.replacen(w, with, 1);
+        }
+        let mut bench = format!("{}\n", rng.pick(&headers));
+        let rows = rng.below(30);
+        let mut a = 0.0;
+        for _ in 0..rows {
+            a += [0.1, 0.5, -0.3, 0.0, 30.0][rng.below(5)];
+            let cell = if rng.below(8) == 0 {
+                rng.pick(EXTREMES).to_string()
+            } else {
+                format!("{}", 0.1 * rng.below(100) as f64)
+            };
+            bench += &if rng.below(12) == 0 { format!("{a}\n") } else { format!("{a},{cell}\n") };
+        }
+        let free: Vec<String> = (0..1 + rng.below(2)).map(|_| rng.pick(&free_args).to_string()).collect();
+        let direction = *rng.pick(&["rz", "rz", "x", "q"]);
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            let t = ScenarioText::new(&text, "law.toml", &common::repo("examples/laws")).map_err(|e| e.to_string())?;
+            let b = Bench::parse(&bench, "bench.csv")?;
+            let f = params::parse(&free, &t)?;
+            let p = LawProblem::new(t, f, b, direction)?;
+            let options = lm::Options { max_iterations: 3, ..lm::Options::default() };
+            let r = fit(&p, &options, &mut |_, _| {})?;
+            Ok::<_, String>((p, r))
+        }));
+        let what = format!("seed {seed} input {i}: law\n{text}\nbench\n{bench}\nfree {free:?} direction {direction}");
+        match outcome {
+            Err(_) => panic!("{what}: panicked"),
+            Ok(Err(e)) => {
+                let named =
+                    ["law.toml", "bench.csv", "--free", "--direction", "the law with"].iter().any(|w| e.contains(w));
+                assert!(named, "{what}: an error that names nothing: {e}");
+                refused += 1;
+            }
+            Ok(Ok((p, r))) => {
+                for (f, x) in p.free.iter().zip(&r.solution.x) {
+                    assert!(x.is_finite() && *x >= f.low && *x <= f.high, "{what}: {} = {x}", f.path);
+                }
+                fitted += 1;
+            }
+        }
+    }
+    println!("law fit fuzz, seed {seed}: {n} inputs, {fitted} fitted, {refused} refused in words");
 }

@@ -7,6 +7,7 @@
 
 pub mod data;
 pub mod differences;
+pub mod law;
 pub mod lm;
 pub mod params;
 pub mod problem;

@@ -21,7 +21,8 @@ pub struct Free {
 /// `KEY=0:` is `KEY ≥ 0`), and reads each one's starting value from `text`. Refused, naming
 /// the argument: a path that names no value or a value that is not a number, a wildcard
 /// whose values differ (a tied parameter starts from one value), bounds that are not
-/// numbers or not `LOW < HIGH`, a start outside its bounds, two paths naming one value.
+/// numbers or not `LOW < HIGH`, a start outside its bounds, two paths naming one value, a
+/// value of `[run]` (how to run is not fitted).
 pub fn parse(args: &[String], text: &ScenarioText) -> Result<Vec<Free>, String> {
     if args.is_empty() {
         return Err("no --free parameter: name at least one scenario value to fit (--free hinge.h1.law.k_theta)".into());
@@ -53,6 +54,11 @@ pub fn parse(args: &[String], text: &ScenarioText) -> Result<Vec<Free>, String> 
                 (bound(l, f64::NEG_INFINITY)?, bound(h, f64::INFINITY)?)
             }
         };
+        if path.split('.').next() == Some("run") {
+            return Err(bad(
+                "the [run] table says how to run (duration, tolerances, output), not what the structure is: fit the model's values".into(),
+            ));
+        }
         if low >= high {
             return Err(bad(format!("the bounds need LOW < HIGH; got {low}:{high}")));
         }
@@ -72,6 +78,9 @@ pub fn parse(args: &[String], text: &ScenarioText) -> Result<Vec<Free>, String> 
                     )));
                 }
                 (Some(v), None) => return Err(bad(format!("{at} holds {v}, not a number"))),
+                (Some(v), Some(x)) if !x.is_finite() => {
+                    return Err(bad(format!("{at} holds {v}, not a finite number to start from")));
+                }
                 (_, Some(x)) => values.push((at.clone(), x)),
             }
         }

@@ -14,6 +14,7 @@ pub mod build;
 mod contact;
 pub mod edit;
 pub mod error;
+mod law_file;
 mod laws;
 mod loads;
 mod raw;
@@ -22,6 +23,7 @@ mod values;
 pub use build::Scenario;
 pub use edit::{ScenarioText, SetValue};
 pub use error::ScenarioError;
+pub use law_file::law_from_toml;
 
 #[cfg(test)]
 use std::path::Path;

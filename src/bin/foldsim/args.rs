@@ -117,13 +117,25 @@ pub enum Command {
     /// paths, as sweeps name them) chosen so that the run's output columns match DATA's, by
     /// bounded Levenberg–Marquardt; prints the fitted values with standard errors,
     /// correlations and warnings, and writes the fitted scenario with -o.
+    #[command(group(clap::ArgGroup::new("what").required(true).args(["scenario", "law"])))]
     Fit {
         /// Scenario file (TOML): the free values start from its values.
-        scenario: PathBuf,
-        /// Measurements (CSV): a `t` column (s) and output columns by name (h1_yaw, deployed,
-        /// …); an empty cell is a value not measured then.
-        #[arg(long)]
-        data: PathBuf,
+        scenario: Option<PathBuf>,
+        /// Measurements (CSV) for a scenario: a `t` column (s) and output columns by name
+        /// (h1_yaw, deployed, …); an empty cell is a value not measured then.
+        #[arg(long, requires = "scenario", conflicts_with = "law")]
+        data: Option<PathBuf>,
+        /// A hinge law on its own (a TOML file with `law = { … }`, as a hinge's), fitted to a
+        /// bench test given by --moment instead of a scenario's run.
+        #[arg(long, requires = "moment")]
+        law: Option<PathBuf>,
+        /// The bench test for --law (CSV): angle_deg,moment_Nm (or angle_rad,moment_Nm, or
+        /// displacement_m,force_N), the points in the order taken (loading, then unloading).
+        #[arg(long, requires = "law")]
+        moment: Option<PathBuf>,
+        /// The law's direction the bench test drives (x, y, z, rx, ry, rz).
+        #[arg(long, default_value = "rz", requires = "law")]
+        direction: String,
         /// A value to fit, KEY or KEY=LOW:HIGH (either bound may be empty); repeat for more.
         /// A wildcard (hinge.*.law.k_theta) ties one value across every entry it matches.
         #[arg(long = "free", required = true)]
@@ -132,7 +144,7 @@ pub enum Command {
         /// by it); repeat for more. Columns without one weigh 1 in their own unit.
         #[arg(long = "sigma")]
         sigma: Vec<String>,
-        /// The scenario with the fitted values, to write (never over an input).
+        /// The scenario (or law file) with the fitted values, to write (never over an input).
         #[arg(long, short)]
         output: Option<PathBuf>,
         /// A PNG of the data against the fitted run.

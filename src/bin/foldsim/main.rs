@@ -56,12 +56,14 @@ fn main() -> ExitCode {
             sweep::sweep(&scenario, output, workers, runs, seed, quiet)
         }
         #[cfg(feature = "plot")]
-        Command::Fit { scenario, data, free, sigma, output, plot, max_iterations, quiet } => {
-            fit::fit(&scenario, &data, (&free, &sigma), (output, plot), max_iterations, quiet)
+        Command::Fit { scenario, data, law, moment, direction, free, sigma, output, plot, max_iterations, quiet } => {
+            let what = fit::What { scenario, data, law, moment, direction };
+            fit::fit(what, (&free, &sigma), (output, plot), max_iterations, quiet)
         }
         #[cfg(not(feature = "plot"))]
-        Command::Fit { scenario, data, free, sigma, output, max_iterations, quiet } => {
-            fit::fit(&scenario, &data, (&free, &sigma), (output, None), max_iterations, quiet)
+        Command::Fit { scenario, data, law, moment, direction, free, sigma, output, max_iterations, quiet } => {
+            let what = fit::What { scenario, data, law, moment, direction };
+            fit::fit(what, (&free, &sigma), (output, None), max_iterations, quiet)
         }
         Command::Modes { scenario, output, state, spin_rate: Some(w), quiet, .. } => {
             let choice = modes::Choice { at: state.at, deployed: state.deployed, count: None };

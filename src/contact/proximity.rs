@@ -118,6 +118,15 @@ pub struct NearSide {
     reference: (Mat3, Vec3),
     /// The places in `samples` whose `impact` is set (not NaN).
     remembered: Vec<u32>,
+    /// The places in `samples` whose gap is at most [`SLACK`] (in contact, or within rounding
+    /// of it, at the reference): what [`Proximity::remember`] looks up, rather than every
+    /// sample.
+    touching: Vec<u32>,
+}
+
+/// The places in `samples` whose gap is at most [`SLACK`].
+fn touching_of(samples: &[NearSample]) -> Vec<u32> {
+    samples.iter().enumerate().filter(|(_, s)| s.gap <= SLACK).map(|(i, _)| i as u32).collect()
 }
 
 impl NearSide {
@@ -125,7 +134,8 @@ impl NearSide {
     fn new(samples: Vec<NearSample>, fa: &Frame, fb: &Frame) -> Self {
         let gap = samples.iter().map(|s| s.gap).fold(f64::INFINITY, f64::min);
         let reach = samples.iter().map(|s| s.reach).fold(0.0, f64::max);
-        Self { samples, gap, reach, reference: fa.in_frame_of(fb), remembered: Vec::new() }
+        let touching = touching_of(&samples);
+        Self { samples, gap, reach, reference: fa.in_frame_of(fb), remembered: Vec::new(), touching }
     }
 
     /// How far the body has moved in the other's frame since the reference, given its
@@ -182,6 +192,7 @@ impl NearSide {
             least = least.min(s.gap);
         }
         self.gap = least;
+        self.touching = touching_of(&self.samples);
         self.reference = (*dcm_b_a, *r_ab);
     }
 }
@@ -287,11 +298,12 @@ impl Proximity {
                     side.samples[i as usize].impact = f64::NAN;
                 }
                 side.remembered.clear();
-                for (i, s) in side.samples.iter_mut().enumerate().filter(|(_, s)| s.gap <= SLACK) {
+                for &i in &side.touching {
+                    let s = &mut side.samples[i as usize];
                     let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
                     if let Some(&v) = memory.get(&key) {
                         s.impact = v;
-                        side.remembered.push(i as u32);
+                        side.remembered.push(i);
                         found += 1;
                     }
                 }

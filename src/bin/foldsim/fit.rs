@@ -90,7 +90,10 @@ pub(crate) fn fit(
             }
             (Box::new(LawProblem::new(text, free, bench, &direction)?), law, moment)
         }
-        _ => return Err("give a scenario with --data, or --law with --moment".into()),
+        What { scenario: Some(s), .. } => {
+            return Err(format!("foldsim fit {}: give the measurements with --data DATA.csv (docs/fit.md)", s.display()));
+        }
+        _ => return Err("give a scenario with --data, or --law with --moment (docs/fit.md)".into()),
     };
     let terminal = !quiet && std::io::stderr().is_terminal();
     let mut on_iteration = |k: usize, norm: f64| {

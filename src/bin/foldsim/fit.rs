@@ -91,7 +91,10 @@ pub(crate) fn fit(
             (Box::new(LawProblem::new(text, free, bench, &direction)?), law, moment)
         }
         What { scenario: Some(s), .. } => {
-            return Err(format!("foldsim fit {}: give the measurements with --data DATA.csv (docs/fit.md)", s.display()));
+            return Err(format!(
+                "foldsim fit {}: give the measurements with --data DATA.csv (docs/fit.md)",
+                s.display()
+            ));
         }
         _ => return Err("give a scenario with --data, or --law with --moment (docs/fit.md)".into()),
     };

@@ -278,7 +278,9 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             // thick flasher example took 4.50-4.55 s against 5.96-6.67 s at 3 (738 Jacobians
             // against 1,209), the 5 × 2 thick flasher the same, the contact z-fold
             // and panel-hub examples under SDIRK4 3-5 % longer; at 5, those two 10 % longer
-            // (2-core AMD EPYC, load 1.1-1.5, two alternated rounds).
+            // (2-core AMD EPYC, load 1.1-1.5, two alternated rounds). The thick starshade
+            // (60 s, `auto`) took 249.7 s against 228.4 s (one run each, load ~1: the same
+            // Jacobians, more Newton failures): a trade, kept for the stowed-contact case.
             fresh_jacobian = false;
             if max_iterations > 4 {
                 fresh_jacobian = true;

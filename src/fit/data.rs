@@ -47,11 +47,7 @@ impl Data {
     /// `duration` s), a row of the wrong length, fewer than two rows, a column with no value.
     pub fn parse(text: &str, file: &str, model: &Model, duration: f64) -> Result<Self, String> {
         let err = |line: usize, m: String| format!("{file}:{line}: {m}");
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l))
-            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let mut lines = data_lines(text);
         let Some((header_line, header)) = lines.next() else {
             return Err(format!("{file}: empty; a data file has a header (t and output columns) and rows of numbers"));
         };
@@ -143,4 +139,12 @@ impl Data {
     pub fn count(&self) -> usize {
         self.columns.iter().map(|c| c.values.iter().flatten().count()).sum()
     }
+}
+
+/// A data file's lines with their numbers (from 1), blank lines and `#` comments left out.
+pub(super) fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
 }

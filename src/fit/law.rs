@@ -52,11 +52,7 @@ impl Bench {
     /// cell that is not a finite number, a row of the wrong length, fewer than two rows.
     pub fn parse(text: &str, file: &str) -> Result<Self, String> {
         let err = |line: usize, m: String| format!("{file}:{line}: {m}");
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l))
-            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let mut lines = super::data::data_lines(text);
         let Some((hl, header)) = lines.next() else {
             return Err(format!("{file}: empty; a bench test has a header (angle_deg,moment_Nm) and rows"));
         };

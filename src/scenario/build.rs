@@ -70,17 +70,25 @@ impl Scenario {
     /// As [`Scenario::from_toml`], resolving relative table paths against `base`.
     pub fn from_toml_in(text: &str, file: &str, base: &Path) -> Result<Self, ScenarioError> {
         let ctx = Ctx { file, text, base, inputs: Default::default(), warnings: Default::default() };
-        let raw: RawScenario = toml::from_str(text).map_err(|e| {
-            let message = in_user_words(e.message().trim(), text, e.span());
-            let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
-                Some(item) => format!("{item}: {message}"),
-                None => message,
-            };
-            ctx.at(e.span(), message)
-        })?;
-        check_finite(&ctx)?;
+        let raw: RawScenario = parse_toml(&ctx)?;
         build(&ctx, raw)
     }
+}
+
+/// `ctx`'s text read into `T`, TOML errors worded for users and located, every number checked
+/// finite (a scenario file, or a law file: `super::law_file`).
+pub(super) fn parse_toml<T: serde::de::DeserializeOwned>(ctx: &Ctx<'_>) -> Result<T, ScenarioError> {
+    let text = ctx.text;
+    let raw: T = toml::from_str(text).map_err(|e| {
+        let message = in_user_words(e.message().trim(), text, e.span());
+        let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
+            Some(item) => format!("{item}: {message}"),
+            None => message,
+        };
+        ctx.at(e.span(), message)
+    })?;
+    check_finite(ctx)?;
+    Ok(raw)
 }
 
 /// A scenario file's text; an error names the file.

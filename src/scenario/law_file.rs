@@ -3,10 +3,9 @@
 //! `foldsim fit --law` fits to a bench test; checked as a scenario's law would be, with errors
 //! located in the file's own lines.
 
-use super::error::{Ctx, ScenarioError, enclosing_item, in_user_words};
+use super::error::{Ctx, ScenarioError};
 use super::laws::law;
 use super::raw::RawLaw;
-use super::values::check_finite;
 use crate::law::HingeLaw;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -25,15 +24,7 @@ struct RawLawFile {
 /// files it read (the tables).
 pub fn law_from_toml(text: &str, file: &str, base: &Path) -> Result<(Box<dyn HingeLaw>, Vec<PathBuf>), ScenarioError> {
     let ctx = Ctx { file, text, base, inputs: Default::default(), warnings: Default::default() };
-    let raw: RawLawFile = toml::from_str(text).map_err(|e| {
-        let message = in_user_words(e.message().trim(), text, e.span());
-        let message = match e.span().and_then(|span| enclosing_item(text, span.start)) {
-            Some(item) => format!("{item}: {message}"),
-            None => message,
-        };
-        ctx.at(e.span(), message)
-    })?;
-    check_finite(&ctx)?;
+    let raw: RawLawFile = super::build::parse_toml(&ctx)?;
     let name = Path::new(file).file_stem().map_or_else(|| "law".to_string(), |s| s.to_string_lossy().into_owned());
     let built = law(&ctx, &name, &raw.law)?;
     let inputs = ctx.inputs.borrow().clone();

@@ -14,14 +14,17 @@
 //! [`model`] (static description) → [`state`] (the state vector) → [`kinematics`] (hinge
 //! relative states, initial conditions) → [`dynamics`] (equations of motion, locks, the
 //! exact Jacobian, the hinge-graph Newton matrix) → [`observe`] (outputs) → [`simulate`]
-//! (a run) → [`linear`] (linear models and modes) → [`scenario`] (TOML files) → [`output`] (CSV, plots) → [`generate`]
-//! (scenario generators) → [`sweep`] (many runs of a scenario, summarised). `tests/layers.rs`
+//! (a run) → [`linear`] (linear models and modes) → [`scenario`] (TOML files) → [`session`] (a run stepped by name: the
+//! C library's, the FMU's) → [`output`] (CSV, plots) → [`generate`] (scenario generators) →
+//! [`sweep`] (many runs of a scenario, summarised) → [`fit`] (scenario values fitted to
+//! measurements) → [`export`] (the FMU archive). `tests/layers.rs`
 //! checks it.
 
 #![warn(missing_docs)]
 
 pub mod contact;
 pub mod dynamics;
+pub mod export;
 pub mod fit;
 pub mod generate;
 pub mod integrate;
@@ -34,6 +37,7 @@ pub mod model;
 pub mod observe;
 pub mod output;
 pub mod scenario;
+pub mod session;
 pub mod simulate;
 pub mod state;
 pub mod sweep;

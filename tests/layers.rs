@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The top-level modules, lowest layer first: each may use only those before it.
-const LAYERS: [&str; 17] = [
+const LAYERS: [&str; 19] = [
     "math",
     "integrate",
     "law",
@@ -26,10 +26,12 @@ const LAYERS: [&str; 17] = [
     "simulate",
     "linear",
     "scenario",
+    "session",
     "output",
     "generate",
     "sweep",
     "fit",
+    "export",
 ];
 
 /// Every `.rs` file under `dir`, sorted.

@@ -188,18 +188,10 @@ fn output_row(model: &Model, y: &[f64], motions: &[BodyMotion], name: &str) -> R
 }
 
 /// What the inputs of a state-space model are: forces and torques on bodies (by index, in
-/// their own frames at their centres of mass), every motor, every torque source.
+/// their own frames at their centres of mass), every motor, every torque source
+/// ([`crate::model::inputs::inputs`], the names every face uses).
 fn input_names(model: &Model, bodies: &[usize]) -> Vec<String> {
-    let mut names = Vec::new();
-    for &i in bodies {
-        let b = &model.bodies[i].name;
-        names.extend(["F_x", "F_y", "F_z", "T_x", "T_y", "T_z"].map(|s| format!("{b}_{s}")));
-    }
-    names.extend(model.motors.iter().map(|m| format!("{}_effort", m.name)));
-    if let Some(c) = &model.control {
-        names.extend(c.actuator_names().iter().map(|a| format!("{a}_torque")));
-    }
-    names
+    crate::model::inputs::inputs(model, bodies).into_iter().map(|i| i.name).collect()
 }
 
 /// Sets input `k` (of [`input_names`]' order) to `value`, every other to zero.

@@ -4,6 +4,7 @@
 pub mod body;
 pub mod contact;
 pub mod hinge;
+pub mod inputs;
 pub mod mesh;
 pub mod rates;
 pub mod shape;

@@ -146,6 +146,45 @@ impl ScenarioText {
         Ok(out)
     }
 
+    /// Every number the text writes as a single value (not in a vector or a list), with its
+    /// key path (list entries by `name` where they have one, by position otherwise), in the
+    /// file's order: the values a C program or an FMU's host may change by key path.
+    pub fn numbers(&self) -> Vec<(String, f64)> {
+        fn walk(item: &Item, path: &mut Vec<String>, out: &mut Vec<(String, f64)>) {
+            let table = |pairs: Vec<(&str, &Item)>, path: &mut Vec<String>, out: &mut Vec<(String, f64)>| {
+                for (k, sub) in pairs {
+                    path.push(k.to_string());
+                    walk(sub, path, out);
+                    path.pop();
+                }
+            };
+            match item {
+                Item::Table(t) => table(t.iter().collect(), path, out),
+                Item::ArrayOfTables(list) => {
+                    for (i, t) in list.iter().enumerate() {
+                        let name = t.get("name").and_then(|n| n.as_str()).filter(|n| !n.contains('.'));
+                        path.push(name.map_or_else(|| i.to_string(), str::to_string));
+                        table(t.iter().collect(), path, out);
+                        path.pop();
+                    }
+                }
+                Item::Value(Value::InlineTable(t)) => {
+                    for (k, v) in t.iter() {
+                        path.push(k.to_string());
+                        walk(&Item::Value(v.clone()), path, out);
+                        path.pop();
+                    }
+                }
+                Item::Value(Value::Float(f)) => out.push((path.join("."), *f.value())),
+                Item::Value(Value::Integer(i)) => out.push((path.join("."), *i.value() as f64)),
+                _ => {}
+            }
+        }
+        let mut out = Vec::new();
+        walk(self.doc.as_item(), &mut Vec::new(), &mut out);
+        out
+    }
+
     /// Refuses key paths of which two name the same value, or one a value inside the other's
     /// (`hinge.h1.law.k_theta` and `hinge.*.law.k_theta`, `body.0.mass` and `body.hub.mass`):
     /// one change would silently undo the other. The error names both paths.

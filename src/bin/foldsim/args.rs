@@ -247,6 +247,12 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Export a scenario for another tool: `foldsim export fmu` writes an FMI 2.0
+    /// co-simulation FMU (docs/interop.md).
+    Export {
+        #[command(subcommand)]
+        what: Export,
+    },
     /// Write a generated structure as a scenario file.
     #[command(allow_negative_numbers = true)]
     Generate {
@@ -424,4 +430,36 @@ pub(crate) struct LinearState {
     /// flasher or z-fold, stress-free, an equilibrium.
     #[arg(long, conflicts_with = "at")]
     pub(crate) deployed: bool,
+}
+
+/// What `foldsim export` writes.
+#[derive(Subcommand, Debug)]
+pub enum Export {
+    /// An FMI 2.0 co-simulation FMU of a scenario (Linux x86_64): foldsim's own integrator
+    /// steps between communication points; inputs, outputs and parameters by name
+    /// (docs/interop.md).
+    Fmu {
+        /// Scenario file (TOML; see docs/scenario.md).
+        scenario: PathBuf,
+        /// The FMU to write (.fmu); its name is the model identifier.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Outputs: output column names or patterns (`*`, `?`, `default`), comma-separated.
+        /// Default: the default set (docs/outputs.md).
+        #[arg(long, value_delimiter = ',')]
+        outputs: Option<Vec<String>>,
+        /// Inputs, comma-separated: a body's name (its six inputs `<body>_F_x` … `_T_z`, its
+        /// own frame), a motor's (`<motor>_effort`), an actuator's (`<actuator>_torque`),
+        /// `actuators` (every one), or an input's own name. Default: the hub.
+        #[arg(long, value_delimiter = ',')]
+        inputs: Option<Vec<String>>,
+        /// Parameters: key-path patterns (`hinge.*.law.*`), comma-separated, among the
+        /// numbers the scenario writes outside [run]; `none` for no parameters. Default: all.
+        #[arg(long, value_delimiter = ',')]
+        parameters: Option<Vec<String>>,
+        /// The FMU's shared library (default: `libfoldsim_fmu.so` beside this program, as
+        /// `cargo build --release` leaves it).
+        #[arg(long)]
+        library: Option<PathBuf>,
+    },
 }

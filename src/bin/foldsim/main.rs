@@ -1,11 +1,13 @@
 //! `foldsim`: command-line front end of the foldsim library. One file per command:
 //! `args.rs` (what the command line takes), `run.rs` (`run`, with the animation and page
 //! targets), `report.rs` (the end-of-run report), `view.rs` (`animate`, `view`),
-//! `generate.rs` (`generate`), `sweep.rs` (`sweep`), `modes.rs` (`modes`, `equilibrium`).
+//! `generate.rs` (`generate`), `sweep.rs` (`sweep`), `modes.rs` (`modes`, `equilibrium`),
+//! `export.rs` (`export fmu`).
 
 #[macro_use]
 mod out;
 mod args;
+mod export;
 mod fit;
 mod generate;
 mod modes;
@@ -79,6 +81,14 @@ fn main() -> ExitCode {
         Command::Linearize { scenario, output, state, inputs, outputs, modes: reduced, hub_held, quiet } => {
             let choice = modes::Choice { at: state.at, deployed: state.deployed, count: reduced };
             modes::linearize(&scenario, output, choice, (inputs, outputs), hub_held, quiet)
+        }
+        Command::Export { what: args::Export::Fmu { scenario, output, outputs, inputs, parameters, library } } => {
+            let request = foldsim::export::fmu::Request {
+                outputs: outputs.unwrap_or_default(),
+                inputs: inputs.unwrap_or_default(),
+                parameters: parameters.map(|p| if p == ["none"] { Vec::new() } else { p }),
+            };
+            export::fmu(&scenario, &output, &request, library)
         }
         Command::Equilibrium { scenario, output, tolerance, spin_rate, quiet } => {
             modes::equilibrium(&scenario, output, tolerance, spin_rate, quiet)

@@ -38,6 +38,8 @@ pub struct Stepper<'m> {
     differenced_jacobians: usize,
     /// Output rows so far (at the scenario's output times).
     rows: Vec<Observation>,
+    /// Whether rows are kept (see [`Stepper::discard_rows`]).
+    keep_rows: bool,
 }
 
 impl<'m> Stepper<'m> {
@@ -62,6 +64,7 @@ impl<'m> Stepper<'m> {
             wall_seconds: 0.0,
             differenced_jacobians: 0,
             rows: Vec::new(),
+            keep_rows: true,
         })
     }
 
@@ -100,9 +103,11 @@ impl<'m> Stepper<'m> {
             )));
         }
         let t1 = t1.min(end);
-        let rows = &mut self.rows;
+        let (rows, keep) = (&mut self.rows, self.keep_rows);
         let mut sink = |o: &Observation| -> Result<(), String> {
-            rows.push(o.clone());
+            if keep {
+                rows.push(o.clone());
+            }
             Ok(())
         };
         let mut out = StreamOut { dynamics: &self.dynamics, sink: &mut sink, progress: None, s: &mut self.state };
@@ -147,6 +152,13 @@ impl<'m> Stepper<'m> {
             }
         }
         o
+    }
+
+    /// Keeps no output rows from now on (a host that reads [`Stepper::current`] after each
+    /// piece: an FMU, the C library), so a long stepped run's memory does not grow.
+    pub fn discard_rows(&mut self) {
+        self.keep_rows = false;
+        self.rows = Vec::new();
     }
 
     /// The output rows so far.

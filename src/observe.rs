@@ -3,7 +3,7 @@
 use crate::contact::ContactSummary;
 use crate::kinematics::hinge_kinematics;
 use crate::law::LawMemory;
-use crate::math::{Euler321, Vec3};
+use crate::math::{Euler321, Mat3, Vec3};
 use crate::model::Model;
 use crate::state::BodyMotion;
 
@@ -530,4 +530,34 @@ pub fn glob(pattern: &str, name: &str) -> bool {
         }
     }
     p[i..].iter().all(|&c| c == b'*')
+}
+
+/// The whole structure's mass properties in the hub's frame at state `y`, as Basilisk's
+/// `SCMassPropsMsg` gives a spacecraft's: total mass (kg), the barycenter from the hub's
+/// centre of mass (m, hub components), and the inertia about the hub's centre of mass (kg·m²,
+/// hub components), reaction wheels' spin inertias included (the hub's inertia as the
+/// scenario gives it). Each body's inertia turned into the hub frame plus its mass at its
+/// offset (the parallel-axis theorem, Schaub & Junkins, *Analytical Mechanics of Space
+/// Systems*, eq. 4.25): during a deployment this is the inertia a controller should know.
+pub fn mass_about_hub(model: &Model, y: &[f64]) -> (f64, Vec3, Mat3) {
+    let hub = BodyMotion::from_state(y, 0);
+    let dcm_b_n = hub.dcm_n_b.transpose();
+    let (mut mass, mut first, mut inertia) = (0.0, Vec3::zeros(), Mat3::zeros());
+    for (i, b) in model.bodies.iter().enumerate() {
+        let m = BodyMotion::from_state(y, i);
+        let r = dcm_b_n * (m.r_in_n - hub.r_in_n);
+        let dcm_b_i = dcm_b_n * m.dcm_n_b;
+        let mut own = b.inertia_in_body;
+        if i == 0 {
+            if let Some(c) = &model.control {
+                for w in c.wheels() {
+                    own += w.inertia * w.axis_in_hub * w.axis_in_hub.transpose();
+                }
+            }
+        }
+        inertia += dcm_b_i * own * dcm_b_i.transpose() + b.mass * (r.norm_squared() * Mat3::identity() - r * r.transpose());
+        mass += b.mass;
+        first += b.mass * r;
+    }
+    (mass, first / mass, inertia)
 }

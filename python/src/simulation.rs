@@ -23,9 +23,11 @@ self_cell::self_cell!(
 );
 
 /// A run advanced piece by piece: `advance(dt)`, the current row, commands, the rows so far.
-#[pyclass(module = "foldsim._foldsim", unsendable)]
+// Not `unsendable`: a host may drop it on another thread (Basilisk does, at its end), so the
+// run sits behind a mutex (it is Send; the lock is uncontended).
+#[pyclass(module = "foldsim._foldsim")]
 pub struct Simulation {
-    cell: Cell,
+    cell: std::sync::Mutex<Cell>,
     /// The columns `result()` gives.
     selection: Selection,
     /// Every column's name as a Python string, made once (`state` is called every control
@@ -34,6 +36,12 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// The run, locked for one call (a lock poisoned by an earlier panic, which pyo3 raised
+    /// as an exception, still gives it).
+    fn cell(&self) -> std::sync::MutexGuard<'_, Cell> {
+        self.cell.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
     /// Starts a stepped run of `scenario` (its model made to take commands).
     pub(crate) fn start(mut scenario: foldsim::scenario::Scenario, columns: Option<Vec<String>>) -> PyResult<Self> {
         // A scenario without `run.columns` takes the default set of the model as it runs here
@@ -51,7 +59,7 @@ impl Simulation {
         });
         let cell = Cell::try_new(Box::new(scenario), |s| Stepper::start(&s.model, &s.initial, &s.settings))
             .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        Ok(Self { cell, selection, names })
+        Ok(Self { cell: std::sync::Mutex::new(cell), selection, names })
     }
 }
 
@@ -70,18 +78,18 @@ fn frame(name: &str) -> PyResult<LoadFrame> {
 impl Simulation {
     /// Integrates to exactly t + dt (s).
     fn advance(&mut self, dt: f64) -> PyResult<()> {
-        self.cell.with_dependent_mut(|_, s| s.advance(dt)).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+        self.cell().with_dependent_mut(|_, s| s.advance(dt)).map_err(|e| PyRuntimeError::new_err(e.to_string()))
     }
 
     /// The time reached, s.
     #[getter]
     fn t(&self) -> f64 {
-        self.cell.with_dependent(|_, s| s.time())
+        self.cell().with_dependent(|_, s| s.time())
     }
 
     /// Every output column at the time reached, by name.
     fn state<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let values = self.cell.with_dependent_mut(|_, s| row(&s.current()));
+        let values = self.cell().with_dependent_mut(|_, s| row(&s.current()));
         let d = PyDict::new(py);
         for (n, v) in self.names.iter().zip(values) {
             d.set_item(n.bind(py), v)?;
@@ -89,10 +97,20 @@ impl Simulation {
         Ok(d)
     }
 
+    /// The structure's mass properties at the time reached, in the hub's frame: total mass
+    /// (kg), barycenter from the hub's centre of mass (m), inertia about the hub's centre of
+    /// mass (kg·m², 3 × 3 rows), wheels' spin inertias included.
+    fn mass_properties(&self) -> (f64, [f64; 3], [[f64; 3]; 3]) {
+        self.cell().with_dependent(|_, s| {
+            let (m, c, i) = foldsim::observe::mass_about_hub(s.model(), s.state());
+            (m, [c.x, c.y, c.z], [[i[(0, 0)], i[(0, 1)], i[(0, 2)]], [i[(1, 0)], i[(1, 1)], i[(1, 2)]], [i[(2, 0)], i[(2, 1)], i[(2, 2)]]])
+        })
+    }
+
     /// Sets the torque on a body from now on: N·m, in `frame` ("inertial" or "body").
     fn set_torque(&mut self, body: &str, torque: [f64; 3], frame_name: &str) -> PyResult<()> {
         let f = frame(frame_name)?;
-        self.cell.with_dependent_mut(|owner, s| {
+        self.cell().with_dependent_mut(|owner, s| {
             let b = body_index(&owner.model, body)?;
             s.set_torque(b, Vec3::from(torque), f).map_err(PyValueError::new_err)
         })
@@ -102,7 +120,7 @@ impl Simulation {
     /// mass, body frame).
     fn set_force(&mut self, body: &str, force: [f64; 3], frame_name: &str, point: [f64; 3]) -> PyResult<()> {
         let f = frame(frame_name)?;
-        self.cell.with_dependent_mut(|owner, s| {
+        self.cell().with_dependent_mut(|owner, s| {
             let b = body_index(&owner.model, body)?;
             s.set_force(b, Vec3::from(force), Vec3::from(point), f).map_err(PyValueError::new_err)
         })
@@ -110,7 +128,7 @@ impl Simulation {
 
     /// Sets a motor's effort from now on (N or N·m); None gives it back to its drive.
     fn set_motor(&mut self, name: &str, value: Option<f64>) -> PyResult<()> {
-        self.cell.with_dependent_mut(|owner, s| {
+        self.cell().with_dependent_mut(|owner, s| {
             let m = owner.model.motors.iter().position(|m| m.name == name).ok_or_else(|| {
                 let names: Vec<&str> = owner.model.motors.iter().map(|m| m.name.as_str()).collect();
                 PyValueError::new_err(format!("no motor {name:?} (the motors are {names:?})"))
@@ -122,12 +140,12 @@ impl Simulation {
     /// Sets the control's actuator torques from now on (N·m, one per wheel or torque source
     /// in the scenario's order); None gives them back to the control law.
     fn set_wheel_torque(&mut self, values: Option<Vec<f64>>) -> PyResult<()> {
-        self.cell.with_dependent_mut(|_, s| s.set_actuators(values)).map_err(PyValueError::new_err)
+        self.cell().with_dependent_mut(|_, s| s.set_actuators(values)).map_err(PyValueError::new_err)
     }
 
     /// The rows so far: (names, arrays, report), as `Scenario.run` gives them.
     fn result<'py>(&self, py: Python<'py>) -> PyResult<crate::scenario::RunOutput<'py>> {
-        self.cell.with_dependent(|owner, s| {
+        self.cell().with_dependent(|owner, s| {
             let width = self.selection.indices.len();
             let mut values: Vec<Vec<f64>> = vec![Vec::new(); width];
             for o in s.rows() {

@@ -281,6 +281,14 @@ class Simulation:
         """Integrates to exactly t + dt (s) with the scenario's adaptive integrator."""
         self._native.advance(float(dt))
 
+    def mass_properties(self) -> tuple[float, "np.ndarray", "np.ndarray"]:
+        """The whole structure's mass properties at the time reached, in the hub's frame:
+        total mass (kg), the barycenter from the hub's centre of mass (m, 3), and the inertia
+        about the hub's centre of mass (kg·m², 3 × 3), reaction wheels' spin inertias
+        included: what changes as the structure deploys (Basilisk's ``SCMassPropsMsg``)."""
+        m, c, inertia = self._native.mass_properties()
+        return m, np.array(c), np.array(inertia)
+
     def set_torque(self, body: str, torque, *, frame: str) -> None:
         """The torque (N·m) on `body` from now on, in `frame`: "body" (turning with it) or
         "inertial"; replaces the torque set before."""

@@ -97,6 +97,12 @@ impl Simulation {
         Ok(d)
     }
 
+    /// Keeps no rows from now on (`result()` then has none): a host that reads `state` at its
+    /// own times keeps its memory flat over a long run.
+    fn discard_rows(&mut self) {
+        self.cell().with_dependent_mut(|_, s| s.discard_rows());
+    }
+
     /// The structure's mass properties at the time reached, in the hub's frame: total mass
     /// (kg), barycenter from the hub's centre of mass (m), inertia about the hub's centre of
     /// mass (kg·m², 3 × 3 rows), wheels' spin inertias included.

@@ -124,3 +124,43 @@ def test_a_loop_steps_a_sampled_controller_to_the_end():
         for _ in range(n):
             sim.advance(dt)
         assert abs(sim.t - 2.0) < 1e-9
+
+
+def test_mass_properties_from_the_bodies_poses():
+    """`Simulation.mass_properties()` (what foldsim.basilisk publishes as SCMassPropsMsg)
+    against the same sums made here from the output columns: each body's mass and inertia
+    from the scenario file, its pose from `<body>_R_*` and `<body>_q_*` (parallel-axis
+    theorem), the wheels' spin inertias in the hub's; after 1 s of the three-panel spin, to
+    1e-12 relative (the same arithmetic in another order)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("peer", ROOT / "bench" / "peers" / "basilisk_hinged.py")
+    peer = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(peer)
+    sim = foldsim.from_toml(peer.foldsim_scenario(5.0, 1e-10), "hinged.toml").start()
+    sim.advance(1.0)
+    s = sim.state
+
+    def dcm(body):  # [N body] from its quaternion (scalar first)
+        w, x, y, z = (s[f"{body}_q_{a}"] for a in "wxyz")
+        return np.array([
+            [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
+        ])
+
+    bodies = [("hub", peer.HUB_MASS, np.diag(peer.HUB_I)), ("p1", peer.PANEL_MASS, np.diag(peer.PANEL_I)),
+              ("p2", peer.PANEL_MASS, np.diag(peer.PANEL_I))]
+    r_hub, c_hub = np.array([s[f"hub_R_{a}"] for a in "xyz"]), dcm("hub")
+    mass, first, inertia = 0.0, np.zeros(3), np.zeros((3, 3))
+    for name, m, i_own in bodies:
+        r = c_hub.T @ (np.array([s[f"{name}_R_{a}"] for a in "xyz"]) - r_hub)
+        c = c_hub.T @ dcm(name)
+        inertia += c @ i_own @ c.T + m * (r @ r * np.eye(3) - np.outer(r, r))
+        mass += m
+        first += m * r
+    m, com, i = sim.mass_properties()
+    assert abs(m - mass) <= 1e-12 * mass
+    assert np.abs(com - first / mass).max() <= 1e-12 * np.abs(first / mass).max()
+    assert np.abs(i - inertia).max() <= 1e-12 * np.abs(inertia).max()
+    assert np.abs(i - np.diag(peer.HUB_I)).max() > 100.0  # the panels count: not the hub alone

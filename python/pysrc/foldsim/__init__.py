@@ -281,6 +281,11 @@ class Simulation:
         """Integrates to exactly t + dt (s) with the scenario's adaptive integrator."""
         self._native.advance(float(dt))
 
+    def discard_rows(self) -> None:
+        """Keeps no output rows from now on (``result()`` then has none): for a host that
+        reads :attr:`state` at its own times over a long run, whose memory then stays flat."""
+        self._native.discard_rows()
+
     def mass_properties(self) -> tuple[float, "np.ndarray", "np.ndarray"]:
         """The whole structure's mass properties at the time reached, in the hub's frame:
         total mass (kg), the barycenter from the hub's centre of mass (m, 3), and the inertia

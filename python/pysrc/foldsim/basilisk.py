@@ -83,15 +83,18 @@ class FoldsimSpacecraft(sysModel.SysModel):
     ``scenario`` is a :class:`foldsim.Scenario` (``foldsim.load(path)``, ``foldsim.from_toml``)
     whose ``run.duration`` covers the Basilisk simulation. The run starts at ``Reset`` (at
     Basilisk's ``InitializeSimulation``), from the scenario's initial state; each
-    ``Reset`` starts it again.
+    ``Reset`` starts it again. ``keep_rows``: keep the run's output rows at the scenario's
+    output times (``module.simulation.result()``); by default none are kept, so a long
+    Basilisk run's memory stays flat (record Basilisk's messages instead).
     """
 
-    def __init__(self, scenario: "foldsim.Scenario"):
+    def __init__(self, scenario: "foldsim.Scenario", keep_rows: bool = False):
         super().__init__()
         if not isinstance(scenario, foldsim.Scenario):
             raise TypeError(f"FoldsimSpacecraft takes a foldsim.Scenario, got {type(scenario).__name__}")
         self.ModelTag = "foldsim"
         self.scenario = scenario
+        self.keep_rows = keep_rows
         self.scStateOutMsg = messaging.SCStatesMsg()
         self.attOutMsg = messaging.NavAttMsg()
         self.rwSpeedOutMsg = messaging.RWSpeedMsg()
@@ -107,6 +110,8 @@ class FoldsimSpacecraft(sysModel.SysModel):
 
     def Reset(self, CurrentSimNanos):
         self.simulation = self.scenario.start()
+        if not self.keep_rows:
+            self.simulation.discard_rows()
         self._start_nanos = CurrentSimNanos
         state = self.simulation.state
         self._hub = self._hub_name(state)

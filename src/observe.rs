@@ -548,14 +548,13 @@ pub fn mass_about_hub(model: &Model, y: &[f64]) -> (f64, Vec3, Mat3) {
         let r = dcm_b_n * (m.r_in_n - hub.r_in_n);
         let dcm_b_i = dcm_b_n * m.dcm_n_b;
         let mut own = b.inertia_in_body;
-        if i == 0 {
-            if let Some(c) = &model.control {
-                for w in c.wheels() {
-                    own += w.inertia * w.axis_in_hub * w.axis_in_hub.transpose();
-                }
+        if let (0, Some(c)) = (i, &model.control) {
+            for w in c.wheels() {
+                own += w.inertia * w.axis_in_hub * w.axis_in_hub.transpose();
             }
         }
-        inertia += dcm_b_i * own * dcm_b_i.transpose() + b.mass * (r.norm_squared() * Mat3::identity() - r * r.transpose());
+        inertia +=
+            dcm_b_i * own * dcm_b_i.transpose() + b.mass * (r.norm_squared() * Mat3::identity() - r * r.transpose());
         mass += b.mass;
         first += b.mass * r;
     }

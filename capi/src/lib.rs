@@ -153,7 +153,8 @@ pub unsafe extern "C" fn foldsim_load_text(toml: *const c_char, base_dir: *const
         // SAFETY: the caller's promise.
         let toml = unsafe { arg(toml, "foldsim_load_text: toml") }?;
         let base = if base_dir.is_null() { "" } else { unsafe { arg(base_dir, "foldsim_load_text: base_dir") }? };
-        let text = ScenarioText::new(toml, "<scenario text>", Path::new(base)).map_err(|e| (FoldsimErrorRun, e.to_string()))?;
+        let text = ScenarioText::new(toml, "<scenario text>", Path::new(base))
+            .map_err(|e| (FoldsimErrorRun, e.to_string()))?;
         load(text)
     })
 }
@@ -166,13 +167,20 @@ pub unsafe extern "C" fn foldsim_load_text(toml: *const c_char, base_dir: *const
 /// # Safety
 /// `sim` is a live handle; `key_path` is null or NUL-terminated.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn foldsim_set_parameter(sim: *mut FoldsimSimulation, key_path: *const c_char, value: f64) -> FoldsimStatus {
+pub unsafe extern "C" fn foldsim_set_parameter(
+    sim: *mut FoldsimSimulation,
+    key_path: *const c_char,
+    value: f64,
+) -> FoldsimStatus {
     status(|| {
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_set_parameter") }?;
         let path = unsafe { arg(key_path, "foldsim_set_parameter: key_path") }?;
         if s.session.is_some() {
-            return Err((FoldsimErrorState, format!("foldsim_set_parameter({path}): the run has started; parameters are set before foldsim_start")));
+            return Err((
+                FoldsimErrorState,
+                format!("foldsim_set_parameter({path}): the run has started; parameters are set before foldsim_start"),
+            ));
         }
         let mut text = s.text.clone();
         parameters::set(&mut text, path, value).map_err(|e| (FoldsimErrorArgument, e))?;
@@ -250,7 +258,14 @@ pub unsafe extern "C" fn foldsim_output_name(sim: *const FoldsimSimulation, inde
 fn find(names: &[CString], name: &str, what: &str, call: &str) -> Result<usize, Failure> {
     names.iter().position(|n| n.as_bytes() == name.as_bytes()).ok_or_else(|| {
         let some: Vec<String> = names.iter().take(8).map(|n| n.to_string_lossy().into_owned()).collect();
-        (FoldsimErrorArgument, format!("{call}: no {what} named {name:?} (they are {}{})", some.join(", "), if names.len() > 8 { ", …" } else { "" }))
+        (
+            FoldsimErrorArgument,
+            format!(
+                "{call}: no {what} named {name:?} (they are {}{})",
+                some.join(", "),
+                if names.len() > 8 { ", …" } else { "" }
+            ),
+        )
     })
 }
 
@@ -260,7 +275,11 @@ fn find(names: &[CString], name: &str, what: &str, call: &str) -> Result<usize, 
 /// # Safety
 /// `sim` is a live handle; `name` is null or NUL-terminated.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn foldsim_set_input(sim: *mut FoldsimSimulation, name: *const c_char, value: f64) -> FoldsimStatus {
+pub unsafe extern "C" fn foldsim_set_input(
+    sim: *mut FoldsimSimulation,
+    name: *const c_char,
+    value: f64,
+) -> FoldsimStatus {
     status(|| {
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_set_input") }?;
@@ -280,7 +299,10 @@ pub unsafe extern "C" fn foldsim_set_input_at(sim: *mut FoldsimSimulation, index
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_set_input_at") }?;
         if index >= s.inputs.len() {
-            return Err((FoldsimErrorArgument, format!("foldsim_set_input_at: index {index} is out of range: there are {} inputs", s.inputs.len())));
+            return Err((
+                FoldsimErrorArgument,
+                format!("foldsim_set_input_at: index {index} is out of range: there are {} inputs", s.inputs.len()),
+            ));
         }
         set_input(s, index, value)
     })
@@ -288,7 +310,14 @@ pub unsafe extern "C" fn foldsim_set_input_at(sim: *mut FoldsimSimulation, index
 
 fn set_input(s: &mut FoldsimSimulation, k: usize, value: f64) -> Result<(), Failure> {
     if !value.is_finite() {
-        return Err((FoldsimErrorArgument, format!("input {}: the value must be a finite number ({}), got {value}", s.inputs[k].name, s.inputs[k].unit())));
+        return Err((
+            FoldsimErrorArgument,
+            format!(
+                "input {}: the value must be a finite number ({}), got {value}",
+                s.inputs[k].name,
+                s.inputs[k].unit()
+            ),
+        ));
     }
     match s.session.as_mut() {
         Some(session) => session.set_input(k, value).map_err(|e| (FoldsimErrorArgument, e)),
@@ -310,7 +339,10 @@ pub unsafe extern "C" fn foldsim_advance(sim: *mut FoldsimSimulation, dt: f64) -
     status(|| {
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_advance") }?;
-        let session = s.session.as_mut().ok_or_else(|| (FoldsimErrorState, "foldsim_advance: call foldsim_start first".to_string()))?;
+        let session = s
+            .session
+            .as_mut()
+            .ok_or_else(|| (FoldsimErrorState, "foldsim_advance: call foldsim_start first".to_string()))?;
         if !(dt.is_finite() && dt > 0.0) {
             return Err((FoldsimErrorArgument, format!("foldsim_advance: dt must be a finite number > 0 s, got {dt}")));
         }
@@ -327,7 +359,8 @@ pub unsafe extern "C" fn foldsim_time(sim: *mut FoldsimSimulation, t: *mut f64) 
     status(|| {
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_time") }?;
-        let out = unsafe { t.as_mut() }.ok_or_else(|| (FoldsimErrorNull, "foldsim_time: t is a null pointer".to_string()))?;
+        let out =
+            unsafe { t.as_mut() }.ok_or_else(|| (FoldsimErrorNull, "foldsim_time: t is a null pointer".to_string()))?;
         *out = s.session.as_ref().map_or(0.0, |s| s.time());
         Ok(())
     })
@@ -343,12 +376,17 @@ fn started<'a>(s: &'a mut FoldsimSimulation, call: &str) -> Result<&'a mut Sessi
 /// `sim` is a live handle; `name` is null or NUL-terminated; `value` is null or points at a
 /// double.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn foldsim_get_output(sim: *mut FoldsimSimulation, name: *const c_char, value: *mut f64) -> FoldsimStatus {
+pub unsafe extern "C" fn foldsim_get_output(
+    sim: *mut FoldsimSimulation,
+    name: *const c_char,
+    value: *mut f64,
+) -> FoldsimStatus {
     status(|| {
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_get_output") }?;
         let name = unsafe { arg(name, "foldsim_get_output: name") }?;
-        let out = unsafe { value.as_mut() }.ok_or_else(|| (FoldsimErrorNull, "foldsim_get_output: value is a null pointer".to_string()))?;
+        let out = unsafe { value.as_mut() }
+            .ok_or_else(|| (FoldsimErrorNull, "foldsim_get_output: value is a null pointer".to_string()))?;
         let k = find(&s.output_names, name, "output", "foldsim_get_output")?;
         *out = started(s, "foldsim_get_output")?.output(k).map_err(|e| (FoldsimErrorInternal, e))?;
         Ok(())
@@ -361,7 +399,11 @@ pub unsafe extern "C" fn foldsim_get_output(sim: *mut FoldsimSimulation, name: *
 /// # Safety
 /// `sim` is a live handle; `values` is null or points at `count` doubles.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn foldsim_get_outputs(sim: *mut FoldsimSimulation, values: *mut f64, count: usize) -> FoldsimStatus {
+pub unsafe extern "C" fn foldsim_get_outputs(
+    sim: *mut FoldsimSimulation,
+    values: *mut f64,
+    count: usize,
+) -> FoldsimStatus {
     status(|| {
         // SAFETY: the caller's promise.
         let s = unsafe { handle(sim, "foldsim_get_outputs") }?;
@@ -370,7 +412,10 @@ pub unsafe extern "C" fn foldsim_get_outputs(sim: *mut FoldsimSimulation, values
         }
         let n = s.output_names.len();
         if count != n {
-            return Err((FoldsimErrorArgument, format!("foldsim_get_outputs: count is {count}, but there are {n} outputs (foldsim_output_count)")));
+            return Err((
+                FoldsimErrorArgument,
+                format!("foldsim_get_outputs: count is {count}, but there are {n} outputs (foldsim_output_count)"),
+            ));
         }
         let row = started(s, "foldsim_get_outputs")?.outputs();
         // SAFETY: the caller's promise: `values` holds `count` = n doubles.

@@ -37,10 +37,15 @@ fn c_program_equals_the_session() {
         .arg(&out)
         .output()
         .expect("a C compiler (cc) runs");
-    assert!(compiled.status.success(), "the C program does not compile:\n{}", String::from_utf8_lossy(&compiled.stderr));
+    assert!(
+        compiled.status.success(),
+        "the C program does not compile:\n{}",
+        String::from_utf8_lossy(&compiled.stderr)
+    );
     let scenario_path = root.join("examples/paper-3panel.toml");
     let (steps, dt) = (200usize, 0.01);
-    let ran = Command::new(&out).arg(&scenario_path).arg(steps.to_string()).arg(dt.to_string()).output().expect("it runs");
+    let ran =
+        Command::new(&out).arg(&scenario_path).arg(steps.to_string()).arg(dt.to_string()).output().expect("it runs");
     let _ = std::fs::remove_file(&out);
     let stderr = String::from_utf8_lossy(&ran.stderr);
     assert!(ran.status.success(), "the C program failed:\n{stderr}");
@@ -51,7 +56,8 @@ fn c_program_equals_the_session() {
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().expect("a number")).collect()).collect();
     assert_eq!(rows.len(), steps + 1);
 
-    let mut session = Session::start(Scenario::from_file(&scenario_path).expect("the example reads")).expect("it starts");
+    let mut session =
+        Session::start(Scenario::from_file(&scenario_path).expect("the example reads")).expect("it starts");
     assert_eq!(session.output_names(), names.as_slice());
     let input = |s: &Session, n: &str| s.input_index(n).expect("an input");
     let (tz, fx) = (input(&session, "hub_T_z"), input(&session, "hub_F_x"));

@@ -72,12 +72,12 @@ fn resource_dir(uri: &str) -> Result<PathBuf, String> {
     let mut out = Vec::with_capacity(bytes.len());
     let mut k = 0;
     while k < bytes.len() {
-        if bytes[k] == b'%' && k + 2 < bytes.len() {
-            if let Some(b) = std::str::from_utf8(&bytes[k + 1..k + 3]).ok().and_then(|h| u8::from_str_radix(h, 16).ok()) {
-                out.push(b);
-                k += 3;
-                continue;
-            }
+        let hex =
+            |k: usize| std::str::from_utf8(&bytes[k + 1..k + 3]).ok().and_then(|h| u8::from_str_radix(h, 16).ok());
+        if let Some(b) = (bytes[k] == b'%' && k + 2 < bytes.len()).then(|| hex(k)).flatten() {
+            out.push(b);
+            k += 3;
+            continue;
         }
         out.push(bytes[k]);
         k += 1;
@@ -96,9 +96,11 @@ impl Instance {
         env: *mut c_void,
         logging_on: bool,
     ) -> Result<Self, String> {
-        let dir = resource_dir(location.ok_or("no resource location given: the FMU's resources/ directory is needed")?)?;
+        let dir =
+            resource_dir(location.ok_or("no resource location given: the FMU's resources/ directory is needed")?)?;
         let vars_path = dir.join(VARIABLES_FILE);
-        let vars_text = std::fs::read_to_string(&vars_path).map_err(|e| format!("cannot read {}: {e}", vars_path.display()))?;
+        let vars_text =
+            std::fs::read_to_string(&vars_path).map_err(|e| format!("cannot read {}: {e}", vars_path.display()))?;
         let variables: Variables = toml::from_str(&vars_text).map_err(|e| format!("{}: {e}", vars_path.display()))?;
         if guid != Some(variables.guid.as_str()) {
             return Err(format!(
@@ -110,11 +112,17 @@ impl Instance {
         let text = ScenarioText::from_file(&dir.join(SCENARIO_FILE)).map_err(|e| e.to_string())?;
         let mut probe = text.build().map_err(|e| e.to_string())?;
         probe.model.commandable = true;
-        let session_inputs = foldsim::model::inputs::inputs(&probe.model, &(0..probe.model.bodies.len()).collect::<Vec<_>>());
+        let session_inputs =
+            foldsim::model::inputs::inputs(&probe.model, &(0..probe.model.bodies.len()).collect::<Vec<_>>());
         let input_index = variables
             .inputs
             .iter()
-            .map(|n| session_inputs.iter().position(|i| &i.name == n).ok_or_else(|| format!("input {n} is not the scenario's")))
+            .map(|n| {
+                session_inputs
+                    .iter()
+                    .position(|i| &i.name == n)
+                    .ok_or_else(|| format!("input {n} is not the scenario's"))
+            })
             .collect::<Result<Vec<_>, _>>()?;
         let columns: Vec<String> = foldsim::observe::catalogue(&probe.model).into_iter().map(|c| c.name).collect();
         let output_index = variables
@@ -169,7 +177,9 @@ impl Instance {
             return self.fail(&format!("fmi2SetupExperiment: the tolerance must be a finite number > 0, got {t}"));
         }
         if let Some(s) = stop.filter(|s| !(s.is_finite() && *s > start)) {
-            return self.fail(&format!("fmi2SetupExperiment: the stop time must be finite and after the start time {start}, got {s}"));
+            return self.fail(&format!(
+                "fmi2SetupExperiment: the stop time must be finite and after the start time {start}, got {s}"
+            ));
         }
         self.tolerance = tolerance;
         self.start = start;
@@ -293,10 +303,9 @@ impl Instance {
                 return self.fail(&format!("fmi2SetReal: {name} is an output; only inputs and parameters are set"));
             } else if r < no + ni {
                 self.inputs[r - no] = *v;
-                if let Some(s) = self.session.as_mut() {
-                    if let Err(m) = s.set_input(self.input_index[r - no], *v) {
-                        return self.fail(&m);
-                    }
+                let index = self.input_index[r - no];
+                if let Some(Err(m)) = self.session.as_mut().map(|s| s.set_input(index, *v)) {
+                    return self.fail(&m);
                 }
             } else if r - no - ni < self.parameters.len() {
                 if self.phase == Phase::StepMode {

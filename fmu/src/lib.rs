@@ -59,7 +59,8 @@ fn with(c: *mut c_void, f: impl FnOnce(&mut Instance) -> Status) -> Status {
         Ok(s) => s,
         Err(p) => {
             let what = p.downcast_ref::<String>().cloned().or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()));
-            instance.fail(&format!("internal error (a bug in foldsim: please report it): {}", what.unwrap_or_default()));
+            instance
+                .fail(&format!("internal error (a bug in foldsim: please report it): {}", what.unwrap_or_default()));
             FATAL
         }
     }
@@ -159,7 +160,12 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: *mut c_void) {
 
 /// `fmi2SetDebugLogging`.
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2SetDebugLogging(c: *mut c_void, logging_on: c_int, _n: usize, _categories: *const *const c_char) -> Status {
+pub extern "C" fn fmi2SetDebugLogging(
+    c: *mut c_void,
+    logging_on: c_int,
+    _n: usize,
+    _categories: *const *const c_char,
+) -> Status {
     with(c, |i| {
         i.logging_on = logging_on != 0;
         OK
@@ -307,12 +313,22 @@ pub extern "C" fn fmi2SerializedFMUstateSize(c: *mut c_void, _state: *mut c_void
 }
 /// `fmi2SerializeFMUstate` (not offered).
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2SerializeFMUstate(c: *mut c_void, _state: *mut c_void, _bytes: *mut c_char, _size: usize) -> Status {
+pub extern "C" fn fmi2SerializeFMUstate(
+    c: *mut c_void,
+    _state: *mut c_void,
+    _bytes: *mut c_char,
+    _size: usize,
+) -> Status {
     unsupported(c, "fmi2SerializeFMUstate: this FMU cannot serialize its state (canSerializeFMUstate = false)")
 }
 /// `fmi2DeSerializeFMUstate` (not offered).
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2DeSerializeFMUstate(c: *mut c_void, _bytes: *const c_char, _size: usize, _state: *mut *mut c_void) -> Status {
+pub extern "C" fn fmi2DeSerializeFMUstate(
+    c: *mut c_void,
+    _bytes: *const c_char,
+    _size: usize,
+    _state: *mut *mut c_void,
+) -> Status {
     unsupported(c, "fmi2DeSerializeFMUstate: this FMU cannot serialize its state (canSerializeFMUstate = false)")
 }
 /// `fmi2GetDirectionalDerivative` (not offered: `providesDirectionalDerivative = false`;
@@ -327,16 +343,31 @@ pub extern "C" fn fmi2GetDirectionalDerivative(
     _dv_known: *const f64,
     _dv_unknown: *mut f64,
 ) -> Status {
-    unsupported(c, "fmi2GetDirectionalDerivative: not offered (providesDirectionalDerivative = false); foldsim linearize gives the linear model")
+    unsupported(
+        c,
+        "fmi2GetDirectionalDerivative: not offered (providesDirectionalDerivative = false); foldsim linearize gives the linear model",
+    )
 }
 /// `fmi2SetRealInputDerivatives` (not offered: `canInterpolateInputs = false`).
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2SetRealInputDerivatives(c: *mut c_void, _vr: *const u32, _nvr: usize, _order: *const c_int, _value: *const f64) -> Status {
+pub extern "C" fn fmi2SetRealInputDerivatives(
+    c: *mut c_void,
+    _vr: *const u32,
+    _nvr: usize,
+    _order: *const c_int,
+    _value: *const f64,
+) -> Status {
     unsupported(c, "fmi2SetRealInputDerivatives: inputs are held constant over a step (canInterpolateInputs = false)")
 }
 /// `fmi2GetRealOutputDerivatives` (not offered: `MaxOutputDerivativeOrder = 0`).
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2GetRealOutputDerivatives(c: *mut c_void, _vr: *const u32, _nvr: usize, _order: *const c_int, _value: *mut f64) -> Status {
+pub extern "C" fn fmi2GetRealOutputDerivatives(
+    c: *mut c_void,
+    _vr: *const u32,
+    _nvr: usize,
+    _order: *const c_int,
+    _value: *mut f64,
+) -> Status {
     unsupported(c, "fmi2GetRealOutputDerivatives: not offered (MaxOutputDerivativeOrder = 0)")
 }
 

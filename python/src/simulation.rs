@@ -109,7 +109,15 @@ impl Simulation {
     fn mass_properties(&self) -> (f64, [f64; 3], [[f64; 3]; 3]) {
         self.cell().with_dependent(|_, s| {
             let (m, c, i) = foldsim::observe::mass_about_hub(s.model(), s.state());
-            (m, [c.x, c.y, c.z], [[i[(0, 0)], i[(0, 1)], i[(0, 2)]], [i[(1, 0)], i[(1, 1)], i[(1, 2)]], [i[(2, 0)], i[(2, 1)], i[(2, 2)]]])
+            (
+                m,
+                [c.x, c.y, c.z],
+                [
+                    [i[(0, 0)], i[(0, 1)], i[(0, 2)]],
+                    [i[(1, 0)], i[(1, 1)], i[(1, 2)]],
+                    [i[(2, 0)], i[(2, 1)], i[(2, 2)]],
+                ],
+            )
         })
     }
 

@@ -118,8 +118,8 @@ MOTORS = foldsim.load(ROOT / "examples" / "zfold-motor-deploy.toml").with_values
 
 def test_python_stepping_gives_a_state_or_a_named_exception():
     """Stepping from Python (issue 33): advance with any dt, commands with any values (NaN,
-    inf, huge, wrong lengths and names), state lookups by any key, on a run with wheels and
-    one with motors. Each call gives its result or raises ValueError, TypeError, KeyError or
+    inf, huge, wrong lengths and names), state lookups by any key, mass properties, rows
+    discarded, on a run with wheels and one with motors. Each call gives its result or raises ValueError, TypeError, KeyError or
     RuntimeError (a run that cannot go on, in words); never another exception, never a
     crash."""
     n = int(os.environ.get("FOLDSIM_FUZZ_INPUTS", "300"))
@@ -131,7 +131,7 @@ def test_python_stepping_gives_a_state_or_a_named_exception():
         if not sims or rng.random() < 0.05:
             sims = [HOLD.start(), MOTORS.start()]
         sim = rng.choice(sims)
-        kind = rng.randrange(7)
+        kind = rng.randrange(9)
         num = lambda: rng.choice([0.0, 1.0, -1.0, 0.1, 1e-300, 1e300, math.nan, math.inf, -math.inf, 3, "x", None])  # noqa: E731
         try:
             if kind == 0:
@@ -149,6 +149,11 @@ def test_python_stepping_gives_a_state_or_a_named_exception():
                 key = rng.choice(["q_B_w", "q_B_W", "w_B_z", "", "sigma_B_x", "nothing"])
                 s[key]
                 s.vector(rng.choice(["q_B", "w_B", "sigma_B", "zz"]))
+            elif kind == 6:
+                m, c, inertia = sim.mass_properties()
+                assert m > 0.0 and all(map(math.isfinite, c)) and all(math.isfinite(x) for row in inertia for x in row)
+            elif kind == 7 and rng.random() < 0.2:
+                sim.discard_rows()
             else:
                 sim.result()
             counts["done"] += 1

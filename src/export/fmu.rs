@@ -84,7 +84,8 @@ pub fn variables(text: &ScenarioText, request: &Request) -> Result<Variables, St
                     .map(|i| i.name.as_str()),
             );
         }
-        let by_prefix = |suffix: &str| every.iter().find(|i| i.name == format!("{name}{suffix}")).map(|i| i.name.as_str());
+        let by_prefix =
+            |suffix: &str| every.iter().find(|i| i.name == format!("{name}{suffix}")).map(|i| i.name.as_str());
         found.extend(by_prefix("_effort"));
         found.extend(by_prefix("_torque"));
         found.extend(every.iter().filter(|i| i.name == name).map(|i| i.name.as_str()));
@@ -118,7 +119,9 @@ pub fn variables(text: &ScenarioText, request: &Request) -> Result<Variables, St
     let names = outputs.iter().chain(&inputs).chain(parameters.iter().map(|p| &p.path));
     let mut seen = std::collections::HashSet::new();
     if let Some(dup) = names.clone().find(|n| !seen.insert(n.as_str())) {
-        return Err(format!("two FMU variables would both be named {dup:?}: choose fewer outputs, inputs or parameters"));
+        return Err(format!(
+            "two FMU variables would both be named {dup:?}: choose fewer outputs, inputs or parameters"
+        ));
     }
     let mut hash = Fnv::default();
     hash.write(text.text().as_bytes());
@@ -168,7 +171,13 @@ pub fn model_identifier(stem: &str) -> String {
 
 /// The FMI 2.0 model description of an FMU with `variables`, of a scenario titled `title`,
 /// whose run lasts `duration` s with rows every `output_step` s (the default experiment).
-pub fn model_description(variables: &Variables, identifier: &str, title: &str, duration: f64, output_step: f64) -> String {
+pub fn model_description(
+    variables: &Variables,
+    identifier: &str,
+    title: &str,
+    duration: f64,
+    output_step: f64,
+) -> String {
     let mut units: Vec<&str> = Vec::new();
     let mut body = String::new();
     let mut index = 0;
@@ -195,7 +204,13 @@ pub fn model_description(variables: &Variables, identifier: &str, title: &str, d
     };
     for name in &variables.outputs {
         let real = unit_attr(unit_of(name), &mut units);
-        let i = add(name, "causality=\"output\" variability=\"continuous\" initial=\"calculated\"", real, format!("output column {name} (docs/outputs.md)"), &mut body);
+        let i = add(
+            name,
+            "causality=\"output\" variability=\"continuous\" initial=\"calculated\"",
+            real,
+            format!("output column {name} (docs/outputs.md)"),
+            &mut body,
+        );
         outputs_xml.push_str(&format!("      <Unknown index=\"{i}\"/>\n"));
     }
     for name in &variables.inputs {
@@ -212,14 +227,26 @@ pub fn model_description(variables: &Variables, identifier: &str, title: &str, d
     }
     for p in &variables.parameters {
         let real = format!(" start=\"{}\"", fmt(p.start));
-        add(&p.path, "causality=\"parameter\" variability=\"fixed\" initial=\"exact\"", real, format!("scenario value {} (key path)", p.path), &mut body);
+        add(
+            &p.path,
+            "causality=\"parameter\" variability=\"fixed\" initial=\"exact\"",
+            real,
+            format!("scenario value {} (key path)", p.path),
+            &mut body,
+        );
     }
     let unit_defs: String = units.iter().map(|u| format!("    <Unit name=\"{}\"/>\n", xml(u))).collect();
-    let unit_block = if units.is_empty() { String::new() } else { format!("  <UnitDefinitions>\n{unit_defs}  </UnitDefinitions>\n") };
+    let unit_block = if units.is_empty() {
+        String::new()
+    } else {
+        format!("  <UnitDefinitions>\n{unit_defs}  </UnitDefinitions>\n")
+    };
     let structure = if outputs_xml.is_empty() {
         String::new()
     } else {
-        format!("    <Outputs>\n{outputs_xml}    </Outputs>\n    <InitialUnknowns>\n{outputs_xml}    </InitialUnknowns>\n")
+        format!(
+            "    <Outputs>\n{outputs_xml}    </Outputs>\n    <InitialUnknowns>\n{outputs_xml}    </InitialUnknowns>\n"
+        )
     };
     format!(
         r#"<?xml version="1.0" encoding="UTF-8"?>
@@ -331,6 +358,9 @@ pub fn table_files(inputs: &[PathBuf], base: &Path) -> Result<Vec<(PathBuf, Vec<
                 base_c.display()
             )
         })?;
+        if out.iter().any(|(r, _)| r == rel) {
+            continue; // read by several hinges: packed once
+        }
         let bytes = std::fs::read(&c).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
         out.push((rel.to_path_buf(), bytes));
     }

@@ -56,11 +56,11 @@ pub fn inputs(model: &Model, bodies: &[usize]) -> Vec<Input> {
     let mut out = Vec::new();
     for &body in bodies {
         let b = &model.bodies[body].name;
-        for axis in 0..3 {
-            out.push(Input { name: format!("{b}_F_{}", XYZ[axis]), kind: InputKind::Force { body, axis } });
+        for (axis, a) in XYZ.iter().enumerate() {
+            out.push(Input { name: format!("{b}_F_{a}"), kind: InputKind::Force { body, axis } });
         }
-        for axis in 0..3 {
-            out.push(Input { name: format!("{b}_T_{}", XYZ[axis]), kind: InputKind::Torque { body, axis } });
+        for (axis, a) in XYZ.iter().enumerate() {
+            out.push(Input { name: format!("{b}_T_{a}"), kind: InputKind::Torque { body, axis } });
         }
     }
     for (m, motor) in model.motors.iter().enumerate() {

@@ -99,7 +99,11 @@ impl Session {
             return Err(format!("input index {index} is out of range: there are {} inputs", self.inputs.len()));
         };
         if !value.is_finite() {
-            return Err(format!("input {}: the value must be a finite number ({}), got {value}", input.name, input.unit()));
+            return Err(format!(
+                "input {}: the value must be a finite number ({}), got {value}",
+                input.name,
+                input.unit()
+            ));
         }
         let kind = input.kind;
         self.values[index] = value;
@@ -161,7 +165,10 @@ impl Session {
     /// Output `index` at the time reached.
     pub fn output(&mut self, index: usize) -> Result<f64, String> {
         let n = self.outputs.len();
-        self.outputs().get(index).copied().ok_or_else(|| format!("output index {index} is out of range: there are {n} outputs"))
+        self.outputs()
+            .get(index)
+            .copied()
+            .ok_or_else(|| format!("output index {index} is out of range: there are {n} outputs"))
     }
 
     /// The run's report so far.

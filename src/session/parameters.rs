@@ -42,10 +42,15 @@ pub fn set(text: &mut ScenarioText, path: &str, value: f64) -> Result<(), String
     let locations = text.locations(path)?;
     for at in &locations {
         let v = text.get(at)?;
-        let number = v.as_deref().and_then(|v| v.parse::<toml_edit::Value>().ok()).is_some_and(|v| v.is_float() || v.is_integer());
+        let number = v
+            .as_deref()
+            .and_then(|v| v.parse::<toml_edit::Value>().ok())
+            .is_some_and(|v| v.is_float() || v.is_integer());
         if !number {
             return Err(match v {
-                None => format!("parameter {path}: {at} is not in the scenario; only numbers the file writes are parameters"),
+                None => format!(
+                    "parameter {path}: {at} is not in the scenario; only numbers the file writes are parameters"
+                ),
                 Some(v) => format!("parameter {path}: {at} holds {v}, not a single number"),
             });
         }

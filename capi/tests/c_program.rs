@@ -12,10 +12,12 @@ use foldsim::session::Session;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// target/release (or target/debug): where cargo put libfoldsim_c.so for this test.
+/// Where cargo put the libfoldsim_c.so built with this test: `cargo test` leaves it in
+/// target/<profile>/deps beside the test (only `cargo build` copies it up a level, and a copy
+/// there may be older).
 fn target_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("the test's own path");
-    exe.parent().and_then(Path::parent).expect("target/<profile>/deps/<test>").to_path_buf()
+    exe.parent().expect("target/<profile>/deps/<test>").to_path_buf()
 }
 
 #[test]

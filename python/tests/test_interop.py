@@ -23,12 +23,11 @@ CLI = RELEASE / "foldsim"
 
 
 def built(name: str) -> Path:
-    """A build product of the workspace; built here if missing (cargo is where the
-    repository is)."""
-    path = RELEASE / name
-    if not path.exists():
-        subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
-    return path
+    """A build product of the workspace, brought up to date (cargo is where the repository
+    is; a second or two when nothing changed): `cargo test` alone leaves the shared libraries
+    only in target/release/deps, and a copy above may be older."""
+    subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
+    return RELEASE / name
 
 
 def read_csv(text: str) -> tuple[list[str], np.ndarray]:

@@ -245,10 +245,17 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
         // The step lands on the end, or on the next break of the right-hand side.
         let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
         let (mut last, mut landing) = (false, false);
-        if t + 1.01 * h - stop > 0.0 {
+        // A few steps short of the stop: what is left is spread evenly over as many steps as
+        // the controller's step, stretched by at most 10 %, needs, instead of full steps and
+        // a sliver (a stepped run's pieces end at every such stop: the three-panel case at
+        // 10 ms pieces took 19 % more steps than a free run). The last of them lands.
+        let steps_left = if h > 0.0 && !forced { ((stop - t) / (1.1 * h)).ceil() } else { f64::INFINITY };
+        if t + 1.01 * h - stop > 0.0 || steps_left <= 1.0 {
             h = stop - t;
             landing = true;
             last = stop == tf;
+        } else if steps_left <= 4.0 {
+            h = (stop - t) / steps_left;
         }
         if 0.1 * h.abs() <= t.abs() * uround || (!landing && !forced && h.abs() < limits.min_step) {
             return Err(OdeError::StepTooSmall { t, h, non_finite, y: y.to_vec() });

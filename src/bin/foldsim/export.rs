@@ -9,9 +9,11 @@ use std::path::{Path, PathBuf};
 fn default_library() -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find this program's own path: {e}"))?;
     let dir = exe.parent().unwrap_or(Path::new("."));
-    // Integration tests run from target/release/deps; the library is one level up.
-    let candidates = [dir.join("libfoldsim_fmu.so"), dir.join("..").join("libfoldsim_fmu.so")];
-    candidates.iter().find(|p| p.is_file()).cloned().ok_or_else(|| {
+    // `cargo build` leaves it beside this program; `cargo test` only in deps/ below it: the
+    // newer of the two is the one built with this program.
+    let candidates = [dir.join("libfoldsim_fmu.so"), dir.join("deps").join("libfoldsim_fmu.so")];
+    let modified = |p: &PathBuf| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    candidates.iter().filter(|p| p.is_file()).max_by_key(|p| modified(p)).cloned().ok_or_else(|| {
         format!(
             "the FMU's library libfoldsim_fmu.so is not beside this program ({}): build it with `cargo build --release` at the repository's root (it builds the fmu crate), or give --library",
             dir.display()

@@ -102,3 +102,54 @@ def test_basilisk_flight_software_flies_foldsim_as_foldsim_control_does():
     print(f"Basilisk FSW through foldsim.basilisk against foldsim's own control: {worst:.2e} rad (the hub turned {moved:.3f} rad)")
     assert moved > 0.1  # the controller did turn the hub: the comparison is not of two idle runs
     assert worst <= 1e-10
+
+
+def test_fuzz_the_module_messages_and_times():
+    """FoldsimSpacecraft's input surface: wheel torques and hub torques of any value (NaN,
+    ±inf, huge, short and long arrays), Basilisk times in any order (backwards, repeated,
+    past the run's horizon), resets. Each update publishes or raises ValueError (a command
+    that is not finite, in words) or RuntimeError (a run that cannot go on, or a time past
+    the horizon, in words); never another exception, never a crash; every published attitude
+    finite."""
+    import os
+    import random
+
+    from Basilisk.architecture import messaging
+
+    n = int(os.environ.get("FOLDSIM_FUZZ_INPUTS", "200"))
+    seed = int(os.environ.get("FOLDSIM_FUZZ_SEED", "1"))
+    rng = random.Random(seed)
+    text = PEER.foldsim_scenario(5.0, 1e-8)
+    values = [0.0, 0.1, -0.2, 1e-300, 1e300, math.nan, math.inf, -math.inf, 5.0]
+    counts = {"published": 0, "refused": 0, "run ended": 0}
+    sc = None
+    wheel_msg, torque_msg = messaging.ArrayMotorTorqueMsg(), messaging.CmdTorqueBodyMsg()
+    nanos = 0
+    for i in range(n):
+        if sc is None or rng.random() < 0.05:
+            sc = FoldsimSpacecraft(foldsim.from_toml(text, "fuzz.toml"))
+            sc.rwMotorTorqueInMsg.subscribeTo(wheel_msg)
+            sc.cmdTorqueInMsg.subscribeTo(torque_msg)
+            nanos = 0
+            sc.Reset(nanos)
+        w = messaging.ArrayMotorTorqueMsgPayload()
+        w.motorTorque = [rng.choice(values) for _ in range(rng.randrange(0, 5))]
+        wheel_msg.write(w)
+        c = messaging.CmdTorqueBodyMsgPayload()
+        c.torqueRequestBody = [rng.choice(values) for _ in range(3)]
+        torque_msg.write(c)
+        nanos = max(0, nanos + rng.choice([0, 1, 10_000_000, 100_000_000, 1_000_000_000, -50_000_000, 3_000_000_000]))
+        try:
+            sc.UpdateState(nanos)
+            sigma = list(sc.scStateOutMsg.read().sigma_BN)
+            assert all(math.isfinite(x) for x in sigma), f"seed {seed} input {i}: sigma {sigma}"
+            counts["published"] += 1
+        except ValueError as e:
+            assert str(e), f"seed {seed} input {i}: an empty ValueError"
+            counts["refused"] += 1
+        except RuntimeError as e:
+            assert str(e), f"seed {seed} input {i}: an empty RuntimeError"
+            counts["run ended"] += 1
+            sc = None
+    print(f"fuzz foldsim.basilisk (seed {seed}): {n} updates: {counts}")
+    assert counts["published"] > 0 and counts["refused"] > 0

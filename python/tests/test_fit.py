@@ -26,7 +26,7 @@ def test_the_optimum_is_scipys():
     tolerances 1e-12) on the same weighted residuals, computed from foldsim's Python runs on
     the output grid the data were written on: the same optimum to 1e-6 relative (both
     minimise one function; what separates them is each one's difference quotients, ~1e-9)."""
-    data = pd.read_csv(DATA, comment="#")
+    data = pd.read_csv(DATA, comment="#", float_precision="round_trip")
     s = foldsim.load(SCENARIO)
     paths = list(FREE)
 
@@ -66,7 +66,7 @@ def test_python_and_the_command_line_agree(tmp_path: Path):
 
 
 def test_a_dataframe_and_a_dict_are_the_file():
-    frame = pd.read_csv(DATA, comment="#")
+    frame = pd.read_csv(DATA, comment="#", float_precision="round_trip")
     a = foldsim.fit(SCENARIO, frame, free=FREE, sigma=SIGMA)
     b = foldsim.fit(SCENARIO, {c: frame[c].to_numpy() for c in frame.columns}, free=FREE, sigma=SIGMA)
     c = foldsim.fit(SCENARIO, DATA, free=[f"{p}={lo}:{hi}" for p, (lo, hi) in FREE.items()], sigma=SIGMA)
@@ -80,7 +80,7 @@ def test_a_dataframe_and_a_dict_are_the_file():
 
 
 def test_bad_input_is_refused_by_name():
-    frame = pd.read_csv(DATA, comment="#").head(5)
+    frame = pd.read_csv(DATA, comment="#", float_precision="round_trip").head(5)
     nan = frame.copy()
     nan.loc[2, "h1_yaw"] = float("nan")
     with pytest.raises(ValueError, match=r"data \(line 1 the header, line k \+ 2 row k\):4: column 'h1_yaw': 'nan'"):

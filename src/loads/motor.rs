@@ -45,7 +45,8 @@ pub struct Motor {
     pub direction: usize,
     /// How it sets its effort.
     pub drive: Drive,
-    /// Intervals `[on, off)` (s) in which it acts; empty: at all times.
+    /// Intervals `[on, off)` (s) in which it acts, sorted and disjoint (crate::loads::union);
+    /// empty: at all times.
     pub windows: Vec<(f64, f64)>,
 }
 
@@ -82,7 +83,7 @@ pub fn wrench_of<T: Real>(s: &HingeState<T>, d: usize, u: T) -> HingeWrench<T> {
 impl Motor {
     /// Whether the motor acts at time `t` (s).
     pub fn acts(&self, t: f64) -> bool {
-        self.windows.is_empty() || self.windows.iter().any(|&(on, off)| t >= on && t < off)
+        super::acts(&self.windows, t)
     }
 
     /// The effort at time `t` (s) on a hinge in state `s` (N or N·m, driving the coordinate

@@ -196,7 +196,7 @@ pub(super) fn windows(
             );
         }
     }
-    Ok(v.iter().map(|Exact([a, b])| (*a, *b)).collect())
+    Ok(crate::loads::union(v.iter().map(|Exact([a, b])| (*a, *b)).collect()))
 }
 
 /// A list of exactly `N` items (`[x, y, z]`, an `on` pair, …): serde's fixed arrays take the

@@ -23,9 +23,10 @@ use std::ffi::CString;
 use std::path::Path;
 use std::time::Instant;
 
-
 fn load() -> String {
-    std::fs::read_to_string("/proc/loadavg").map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" ")).unwrap_or_default()
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_default()
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -39,7 +40,9 @@ fn main() {
     let dt_arg = args.iter().position(|a| a == "--dt").and_then(|i| args.get(i + 1)).and_then(|v| v.parse().ok());
     let dt: f64 = dt_arg.unwrap_or(0.01);
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let text = std::fs::read_to_string(root.join("examples/paper-3panel.toml")).unwrap().replace("output_step = 0.05", &format!("output_step = {dt}"));
+    let text = std::fs::read_to_string(root.join("examples/paper-3panel.toml"))
+        .unwrap()
+        .replace("output_step = 0.05", &format!("output_step = {dt}"));
     let dir = std::env::temp_dir().join(format!("foldsim-bench-fmu-{}/resources", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join(SCENARIO_FILE), &text).unwrap();
@@ -115,18 +118,21 @@ fn main() {
         return;
     }
     // The work each does: steps and right-hand sides (one pass each, not timed).
-    let mut report = None;
     let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
     let whole = simulate(&scenario.model, &scenario.initial, &scenario.settings, &mut sink, None).unwrap();
     let mut session = foldsim::session::Session::start(Scenario::from_toml(&text, "p3.toml").unwrap()).unwrap();
     for _ in 0..steps {
         session.advance(dt).unwrap();
     }
-    report.get_or_insert(session.report());
-    let pieces = report.unwrap();
+    let pieces = session.report();
     println!(
         "work: run {} steps ({} rejected), {} right-hand sides; pieces {} steps ({} rejected), {} right-hand sides",
-        whole.steps_accepted, whole.steps_rejected, whole.rhs_evaluations, pieces.steps_accepted, pieces.steps_rejected, pieces.rhs_evaluations
+        whole.steps_accepted,
+        whole.steps_rejected,
+        whole.rhs_evaluations,
+        pieces.steps_accepted,
+        pieces.steps_rejected,
+        pieces.rhs_evaluations
     );
     let (mut a, mut b) = (Vec::new(), Vec::new());
     for round in 0..11 {

@@ -194,7 +194,16 @@ mod tests {
     fn windows_merge_and_bisect() {
         let w = union(vec![(3.0, 4.0), (0.0, 1.0), (0.5, 2.0), (2.0, 2.5), (5.0, 6.0)]);
         assert_eq!(w, vec![(0.0, 2.5), (3.0, 4.0), (5.0, 6.0)]);
-        for (t, on) in [(-1.0, false), (0.0, true), (2.49, true), (2.5, false), (3.5, true), (4.0, false), (5.99, true), (6.0, false)] {
+        for (t, on) in [
+            (-1.0, false),
+            (0.0, true),
+            (2.49, true),
+            (2.5, false),
+            (3.5, true),
+            (4.0, false),
+            (5.99, true),
+            (6.0, false),
+        ] {
             assert_eq!(acts(&w, t), on, "t = {t}");
             // The scan of the windows as written says the same.
             let raw = [(3.0, 4.0), (0.0, 1.0), (0.5, 2.0), (2.0, 2.5), (5.0, 6.0)];

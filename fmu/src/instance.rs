@@ -240,7 +240,12 @@ impl Instance {
             }
         }
         if let Some(stop) = self.stop {
+            // The host's horizon; the FMU's outputs are read at its communication points and
+            // it keeps no rows, so `run.output_step` is set to the horizon: a day-long
+            // co-simulation of a scenario written with 5-ms rows is not refused for its row
+            // count.
             text.set("run.duration", &SetValue::Number(stop - self.start))?;
+            text.set("run.output_step", &SetValue::Number(stop - self.start))?;
         }
         if let Some(tol) = self.tolerance {
             text.set("run.rtol", &SetValue::Number(tol))?;

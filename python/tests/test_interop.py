@@ -237,3 +237,23 @@ def test_fmu_motor_inputs_replace_their_drives(tmp_path):
     _, idle = drive(fmu, dt, steps, lambda t: {"mid_effort": 0.0, "tip_effort": 0.0})
     mid = outs.index("h2_yaw") + 1
     assert np.abs(idle[:, mid] - rows[:, mid]).max() > 0.05  # the efforts mattered
+
+
+def test_fmu_runs_a_host_horizon_longer_than_the_scenario(tmp_path):
+    """A host's stop time past the scenario's `run.duration` (here 30 s of the radial spin
+    written for 20 s with 20-ms rows, and a day's horizon given at setup) is the run's
+    horizon: the FMU steps to it."""
+    fmu = export(tmp_path, ROOT / "examples" / "radial-spin.toml", "spin", "--outputs", "w_B_z", "--parameters", "none")
+    r = fmpy.simulate_fmu(str(fmu), stop_time=30.0, output_interval=1.0)
+    assert r["time"][-1] == 30.0 and np.isfinite(r["w_B_z"]).all()
+    from fmpy.fmi2 import FMU2Slave
+
+    md = fmpy.read_model_description(str(fmu))
+    f = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)), modelIdentifier="spin", instanceName="day")
+    f.instantiate()
+    f.setupExperiment(startTime=0.0, stopTime=86400.0)
+    f.enterInitializationMode()
+    f.exitInitializationMode()
+    f.doStep(currentCommunicationPoint=0.0, communicationStepSize=1.0)
+    f.terminate()
+    f.freeInstance()

@@ -33,6 +33,8 @@ pub struct Simulation {
     /// Every column's name as a Python string, made once (`state` is called every control
     /// period).
     names: Vec<Py<pyo3::types::PyString>>,
+    /// The inputs by name (as the FMU and the C library name them) with their values.
+    inputs: foldsim::session::Inputs,
 }
 
 impl Simulation {
@@ -57,9 +59,10 @@ impl Simulation {
         let names = Python::attach(|py| {
             catalogue(&scenario.model).into_iter().map(|c| pyo3::types::PyString::new(py, &c.name).unbind()).collect()
         });
+        let inputs = foldsim::session::Inputs::of(&scenario.model);
         let cell = Cell::try_new(Box::new(scenario), |s| Stepper::start(&s.model, &s.initial, &s.settings))
             .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        Ok(Self { cell: std::sync::Mutex::new(cell), selection, names })
+        Ok(Self { cell: std::sync::Mutex::new(cell), selection, names, inputs })
     }
 }
 
@@ -119,6 +122,23 @@ impl Simulation {
                 ],
             )
         })
+    }
+
+    /// Every input's name (`<body>_F_x` … `<body>_T_z` in the body's frame, `<motor>_effort`,
+    /// `<actuator>_torque`), as `foldsim linearize`, the FMU and the C library name them.
+    #[getter]
+    fn inputs(&self) -> Vec<String> {
+        self.inputs.list().iter().map(|i| i.name.clone()).collect()
+    }
+
+    /// Sets an input by name from now on (its unit: N, N·m; forces and torques in the body's
+    /// own frame). A body's three torque inputs make its whole torque: `set_torque` on the same
+    /// body replaces it, and the next `set_input` replaces that.
+    fn set_input(&mut self, name: &str, value: f64) -> PyResult<()> {
+        let k = self.inputs.index(name).map_err(PyValueError::new_err)?;
+        let Self { cell, inputs, .. } = self;
+        let cell = cell.get_mut().unwrap_or_else(|e| e.into_inner());
+        cell.with_dependent_mut(|_, s| inputs.set(s, k, value)).map_err(PyValueError::new_err)
     }
 
     /// Sets the torque on a body from now on: N·m, in `frame` ("inertial" or "body").

@@ -118,8 +118,8 @@ MOTORS = foldsim.load(ROOT / "examples" / "zfold-motor-deploy.toml").with_values
 
 def test_python_stepping_gives_a_state_or_a_named_exception():
     """Stepping from Python (issue 33): advance with any dt, commands with any values (NaN,
-    inf, huge, wrong lengths and names), state lookups by any key, mass properties, rows
-    discarded, on a run with wheels and one with motors. Each call gives its result or raises ValueError, TypeError, KeyError or
+    inf, huge, wrong lengths and names), inputs by name, state lookups by any key, mass
+    properties, rows discarded, on a run with wheels and one with motors. Each call gives its result or raises ValueError, TypeError, KeyError or
     RuntimeError (a run that cannot go on, in words); never another exception, never a
     crash."""
     n = int(os.environ.get("FOLDSIM_FUZZ_INPUTS", "300"))
@@ -154,6 +154,8 @@ def test_python_stepping_gives_a_state_or_a_named_exception():
                 assert m > 0.0 and all(map(math.isfinite, c)) and all(math.isfinite(x) for row in inertia for x in row)
             elif kind == 7 and rng.random() < 0.2:
                 sim.discard_rows()
+            elif kind == 7:
+                sim.set_input(rng.choice(sim.inputs + ["", "hub_T_w", "nothing"]), num())
             else:
                 sim.result()
             counts["done"] += 1

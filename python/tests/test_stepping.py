@@ -164,3 +164,35 @@ def test_mass_properties_from_the_bodies_poses():
     assert np.abs(com - first / mass).max() <= 1e-12 * np.abs(first / mass).max()
     assert np.abs(i - inertia).max() <= 1e-12 * np.abs(inertia).max()
     assert np.abs(i - np.diag(peer.HUB_I)).max() > 100.0  # the panels count: not the hub alone
+
+
+def test_inputs_by_name_are_the_commands_they_name():
+    """`set_input` (the FMU's and the C library's names) commands what `set_torque`,
+    `set_force` and `set_wheel_torque` command: the same run, bit for bit, over 1 s; an
+    unknown name or a value that is not a number is refused in words."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("peer", ROOT / "bench" / "peers" / "basilisk_hinged.py")
+    peer = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(peer)
+    scenario = foldsim.from_toml(peer.foldsim_scenario(5.0, 1e-10), "hinged.toml")
+    a, b = scenario.start(), scenario.start()
+    assert a.inputs[:6] == ["hub_F_x", "hub_F_y", "hub_F_z", "hub_T_x", "hub_T_y", "hub_T_z"]
+    assert a.inputs[-3:] == ["rw_x_torque", "rw_y_torque", "rw_z_torque"]
+    a.set_input("hub_T_y", 0.3)
+    a.set_input("hub_T_z", -0.2)
+    a.set_input("p1_F_x", 1.5)
+    a.set_input("rw_y_torque", 0.1)
+    b.set_torque("hub", [0.0, 0.3, -0.2], frame="body")
+    b.set_force("p1", [1.5, 0.0, 0.0], frame="body")
+    b.set_wheel_torque([0.0, 0.1, 0.0])
+    for _ in range(10):
+        a.advance(0.1)
+        b.advance(0.1)
+    sa, sb = a.state, b.state
+    assert all(sa[k] == sb[k] for k in sa), [k for k in sa if sa[k] != sb[k]][:5]
+    assert sa["rw_y_torque"] == 0.1
+    with pytest.raises(ValueError, match="no input"):
+        a.set_input("hub_T_w", 1.0)
+    with pytest.raises(ValueError, match="finite"):
+        a.set_input("hub_T_z", float("nan"))

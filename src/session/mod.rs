@@ -6,13 +6,16 @@
 //! turns names into the stepper's commands.
 //!
 //! - [`Session`]: start, set inputs, advance, read outputs;
+//! - [`inputs`]: inputs by name turned into a stepped run's commands (also the Python
+//!   package's `Simulation.set_input`);
 //! - [`parameters`]: the scenario's numbers by key path, changed before a session starts.
 
+pub mod inputs;
 pub mod parameters;
 
-use crate::loads::LoadFrame;
-use crate::math::Vec3;
-use crate::model::inputs::{Input, InputKind, inputs};
+pub use inputs::Inputs;
+
+use crate::model::inputs::Input;
 use crate::observe::{catalogue, row};
 use crate::scenario::Scenario;
 use crate::simulate::{RunReport, Stepper};
@@ -29,10 +32,9 @@ self_cell::self_cell!(
 /// A scenario's run, stepped from outside with named inputs and outputs.
 pub struct Session {
     cell: Cell,
-    /// Every input the model takes: forces and torques on every body, motors, actuators.
-    inputs: Vec<Input>,
-    /// Each input's value as last set (0 until set), in the input's unit.
-    values: Vec<f64>,
+    /// Every input the model takes (forces and torques on every body, motors, actuators)
+    /// with its value as last set.
+    inputs: Inputs,
     /// Every output column's name, in [`row`]'s order.
     outputs: Vec<String>,
     /// The outputs at the time reached, made when first read after a change.
@@ -45,15 +47,13 @@ impl Session {
     pub fn start(mut scenario: Scenario) -> Result<Self, String> {
         scenario.model.commandable = true;
         scenario.settings.hinge_loads = false;
-        let all_bodies: Vec<usize> = (0..scenario.model.bodies.len()).collect();
-        let inputs = inputs(&scenario.model, &all_bodies);
+        let inputs = Inputs::of(&scenario.model);
         let outputs = catalogue(&scenario.model).into_iter().map(|c| c.name).collect();
         let mut cell = Cell::try_new(Box::new(scenario), |s| Stepper::start(&s.model, &s.initial, &s.settings))
             .map_err(|e| e.to_string())?;
         // Its hosts read the outputs at the time reached; rows would only grow.
         cell.with_dependent_mut(|_, s| s.discard_rows());
-        let values = vec![0.0; inputs.len()];
-        Ok(Self { cell, inputs, values, outputs, row: None })
+        Ok(Self { cell, inputs, outputs, row: None })
     }
 
     /// The scenario it runs.
@@ -63,7 +63,7 @@ impl Session {
 
     /// Every input, in the order [`Session::set_input`] takes them.
     pub fn inputs(&self) -> &[Input] {
-        &self.inputs
+        self.inputs.list()
     }
 
     /// Every output's name, in the order [`Session::output`] takes them.
@@ -73,14 +73,7 @@ impl Session {
 
     /// The input named `name`'s position; the error names some valid ones.
     pub fn input_index(&self, name: &str) -> Result<usize, String> {
-        self.inputs.iter().position(|i| i.name == name).ok_or_else(|| {
-            let some: Vec<&str> = self.inputs.iter().take(8).map(|i| i.name.as_str()).collect();
-            format!(
-                "no input {name:?}: inputs are <body>_F_x … <body>_T_z (body frame), <motor>_effort, <actuator>_torque, here {}{}",
-                some.join(", "),
-                if self.inputs.len() > 8 { ", …" } else { "" }
-            )
-        })
+        self.inputs.index(name)
     }
 
     /// The output named `name`'s position; the error names some valid ones.
@@ -95,51 +88,14 @@ impl Session {
     /// constant, until set again. Refused: an index out of range, a value that is not
     /// finite.
     pub fn set_input(&mut self, index: usize, value: f64) -> Result<(), String> {
-        let Some(input) = self.inputs.get(index) else {
-            return Err(format!("input index {index} is out of range: there are {} inputs", self.inputs.len()));
-        };
-        if !value.is_finite() {
-            return Err(format!(
-                "input {}: the value must be a finite number ({}), got {value}",
-                input.name,
-                input.unit()
-            ));
-        }
-        let kind = input.kind;
-        self.values[index] = value;
         self.row = None;
-        let values = &self.values;
-        let inputs = &self.inputs;
-        self.cell.with_dependent_mut(|_, s| match kind {
-            InputKind::Force { body, .. } | InputKind::Torque { body, .. } => {
-                let vector = |torque: bool| {
-                    let mut v = Vec3::zeros();
-                    for (i, x) in inputs.iter().zip(values) {
-                        match i.kind {
-                            InputKind::Force { body: b, axis } if b == body && !torque => v[axis] = *x,
-                            InputKind::Torque { body: b, axis } if b == body && torque => v[axis] = *x,
-                            _ => {}
-                        }
-                    }
-                    v
-                };
-                if matches!(kind, InputKind::Force { .. }) {
-                    s.set_force(body, vector(false), Vec3::zeros(), LoadFrame::Body)
-                } else {
-                    s.set_torque(body, vector(true), LoadFrame::Body)
-                }
-            }
-            InputKind::Motor(m) => s.set_motor(m, Some(value)),
-            InputKind::Actuator(_) => {
-                let u = inputs.iter().zip(values).filter(|(i, _)| matches!(i.kind, InputKind::Actuator(_)));
-                s.set_actuators(Some(u.map(|(_, v)| *v).collect()))
-            }
-        })
+        let inputs = &mut self.inputs;
+        self.cell.with_dependent_mut(|_, s| inputs.set(s, index, value))
     }
 
     /// Input `index`'s value as last set (0 until set).
     pub fn input(&self, index: usize) -> Option<f64> {
-        self.values.get(index).copied()
+        self.inputs.value(index)
     }
 
     /// Integrates to exactly `t + dt` (s) with the scenario's integrator

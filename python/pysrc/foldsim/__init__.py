@@ -281,6 +281,20 @@ class Simulation:
         """Integrates to exactly t + dt (s) with the scenario's adaptive integrator."""
         self._native.advance(float(dt))
 
+    @property
+    def inputs(self) -> list[str]:
+        """Every input's name, as ``foldsim linearize``, the FMU and the C library name them:
+        ``<body>_F_x`` … ``<body>_T_z`` (the body's own frame), ``<motor>_effort``,
+        ``<actuator>_torque`` (docs/interop.md)."""
+        return self._native.inputs
+
+    def set_input(self, name: str, value: float) -> None:
+        """Sets an input by name from now on (N, N·m; forces and torques in the body's own
+        frame, at its centre of mass), as the FMU's and the C library's inputs are set. A
+        body's three torque (or force) inputs make its whole torque: :meth:`set_torque` on
+        the same body replaces it, and the next ``set_input`` replaces that."""
+        self._native.set_input(name, float(value))
+
     def discard_rows(self) -> None:
         """Keeps no output rows from now on (``result()`` then has none): for a host that
         reads :attr:`state` at its own times over a long run, whose memory then stays flat."""

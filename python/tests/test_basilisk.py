@@ -184,3 +184,27 @@ def test_a_commanded_hub_torque_adds_its_impulse():
     assert abs(gained - 10.0) <= 1e-8 * h, gained
     izz = np.array(props.ISC_PntB_B)[:, 2, 2]
     assert izz[-1] > 1.05 * izz[0]  # the panels opening outward (62 -> 69 kg·m² by 5 s)
+
+
+def test_an_error_in_the_module_stops_basilisk_with_its_words(capsys):
+    """A command foldsim refuses (a torque that is not finite) stops Basilisk's
+    ExecuteSimulation with a RuntimeError, and the traceback Basilisk prints above it carries
+    the module's own words; the run does not go on with stale messages."""
+    from Basilisk.architecture import messaging
+    from Basilisk.utilities import SimulationBaseClass, macros
+
+    sim = SimulationBaseClass.SimBaseClass()
+    proc = sim.CreateNewProcess("proc")
+    proc.addTask(sim.CreateNewTask("dyn", macros.sec2nano(0.1)), 200)
+    sc = FoldsimSpacecraft(foldsim.load(ROOT / "examples" / "radial-spin.toml"))
+    sim.AddModelToTask("dyn", sc)
+    payload = messaging.CmdTorqueBodyMsgPayload()
+    payload.torqueRequestBody = [0.0, 0.0, math.nan]
+    torque = messaging.CmdTorqueBodyMsg().write(payload)
+    sc.cmdTorqueInMsg.subscribeTo(torque)
+    sim.InitializeSimulation()
+    sim.ConfigureStopTime(macros.sec2nano(1.0))
+    with pytest.raises(RuntimeError):
+        sim.ExecuteSimulation()
+    assert "cmdTorqueInMsg: the torque must be finite numbers" in capsys.readouterr().err
+    assert sc.simulation.t == 0.0

@@ -9,7 +9,7 @@
 //! [`foldsim_last_error`]. Nothing unwinds across the boundary: a panic (a bug) is caught and
 //! returned as [`FoldsimStatus::FoldsimErrorInternal`].
 
-use foldsim::model::inputs::{Input, inputs};
+use foldsim::model::inputs::Input;
 use foldsim::observe::catalogue;
 use foldsim::scenario::ScenarioText;
 use foldsim::session::{Session, parameters};
@@ -78,17 +78,18 @@ fn guard<T>(fallback: T, f: impl FnOnce() -> Result<T, Failure>) -> T {
     }
 }
 
-/// Runs a call that returns a status.
+/// Runs a call that returns a status: its failure's code, with the message kept for
+/// [`foldsim_last_error`]; a panic is `FoldsimErrorInternal`.
 fn status(f: impl FnOnce() -> Result<(), Failure>) -> FoldsimStatus {
-    let mut out = FoldsimErrorInternal;
-    let done = guard(false, || {
-        f().map_err(|(s, m)| {
-            out = s;
-            (s, m)
-        })?;
-        Ok(true)
-    });
-    if done { FoldsimOk } else { out }
+    guard(FoldsimErrorInternal, || {
+        Ok(match f() {
+            Ok(()) => FoldsimOk,
+            Err((code, message)) => {
+                set_error(&message);
+                code
+            }
+        })
+    })
 }
 
 /// A C string argument as `&str`.
@@ -116,8 +117,7 @@ unsafe fn handle<'a>(sim: *mut FoldsimSimulation, call: &str) -> Result<&'a mut 
 fn load(text: ScenarioText) -> Result<*mut FoldsimSimulation, Failure> {
     let mut scenario = text.build().map_err(|e| (FoldsimErrorRun, e.to_string()))?;
     scenario.model.commandable = true;
-    let all: Vec<usize> = (0..scenario.model.bodies.len()).collect();
-    let inputs = inputs(&scenario.model, &all);
+    let inputs = foldsim::session::Inputs::of(&scenario.model).list().to_vec();
     let c = |s: &str| CString::new(s).unwrap_or_default();
     let input_names = inputs.iter().map(|i| c(&i.name)).collect();
     let output_names = catalogue(&scenario.model).iter().map(|o| c(&o.name)).collect();

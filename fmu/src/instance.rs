@@ -112,18 +112,8 @@ impl Instance {
         let text = ScenarioText::from_file(&dir.join(SCENARIO_FILE)).map_err(|e| e.to_string())?;
         let mut probe = text.build().map_err(|e| e.to_string())?;
         probe.model.commandable = true;
-        let session_inputs =
-            foldsim::model::inputs::inputs(&probe.model, &(0..probe.model.bodies.len()).collect::<Vec<_>>());
-        let input_index = variables
-            .inputs
-            .iter()
-            .map(|n| {
-                session_inputs
-                    .iter()
-                    .position(|i| &i.name == n)
-                    .ok_or_else(|| format!("input {n} is not the scenario's"))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let session_inputs = foldsim::session::Inputs::of(&probe.model);
+        let input_index = variables.inputs.iter().map(|n| session_inputs.index(n)).collect::<Result<Vec<_>, _>>()?;
         let columns: Vec<String> = foldsim::observe::catalogue(&probe.model).into_iter().map(|c| c.name).collect();
         let output_index = variables
             .outputs

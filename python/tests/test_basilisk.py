@@ -73,7 +73,7 @@ def fly(scenario, hub_inertia, wheels, gains, period, duration):
     sim.InitializeSimulation()
     sim.ConfigureStopTime(macros.sec2nano(duration))
     sim.ExecuteSimulation()
-    return {round(float(t) * 1e-9, 6): p.mrp_to_quat(s) for t, s in zip(log.times(), log.sigma_BN) for p in [PEER]}
+    return {round(float(t) * 1e-9, 6): PEER.mrp_to_quat(s) for t, s in zip(log.times(), log.sigma_BN)}
 
 
 PEER = peer()

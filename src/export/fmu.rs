@@ -4,7 +4,7 @@
 //! `resources/scenario.toml` with the table files it reads, `resources/foldsim-fmu.toml`
 //! (the variables, read back by the library).
 
-use crate::model::inputs::{InputKind, inputs};
+use crate::model::inputs::InputKind;
 use crate::observe::Selection;
 use crate::output::units::unit_of;
 use crate::scenario::ScenarioText;
@@ -68,8 +68,8 @@ pub fn variables(text: &ScenarioText, request: &Request) -> Result<Variables, St
     if outputs.is_empty() {
         return Err("--outputs chose only t: name at least one output column (H_*, w_B_z, deployed, ...)".into());
     }
-    let all_bodies: Vec<usize> = (0..model.bodies.len()).collect();
-    let every = inputs(model, &all_bodies);
+    let every = crate::session::Inputs::of(model);
+    let every = every.list();
     let hub = model.bodies[0].name.clone();
     let asked: Vec<String> = if request.inputs.is_empty() { vec![hub] } else { request.inputs.clone() };
     let mut chosen: Vec<String> = Vec::new();

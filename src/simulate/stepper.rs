@@ -38,8 +38,6 @@ pub struct Stepper<'m> {
     differenced_jacobians: usize,
     /// Output rows so far (at the scenario's output times).
     rows: Vec<Observation>,
-    /// Whether rows are kept (see [`Stepper::discard_rows`]).
-    keep_rows: bool,
 }
 
 impl<'m> Stepper<'m> {
@@ -64,7 +62,6 @@ impl<'m> Stepper<'m> {
             wall_seconds: 0.0,
             differenced_jacobians: 0,
             rows: Vec::new(),
-            keep_rows: true,
         })
     }
 
@@ -103,11 +100,9 @@ impl<'m> Stepper<'m> {
             )));
         }
         let t1 = t1.min(end);
-        let (rows, keep) = (&mut self.rows, self.keep_rows);
+        let rows = &mut self.rows;
         let mut sink = |o: &Observation| -> Result<(), String> {
-            if keep {
-                rows.push(o.clone());
-            }
+            rows.push(o.clone());
             Ok(())
         };
         let mut out = StreamOut { dynamics: &self.dynamics, sink: &mut sink, progress: None, s: &mut self.state };
@@ -159,7 +154,6 @@ impl<'m> Stepper<'m> {
     /// grow and no piece pays for rows nobody reads. The report's summaries that rows feed
     /// (the contact summary) then cover the rows made before.
     pub fn discard_rows(&mut self) {
-        self.keep_rows = false;
         self.rows = Vec::new();
         // No rows are made at all from now on (each would cost an observation: at 10 ms
         // pieces of the three-panel case, a fifth of the stepping).

@@ -155,8 +155,8 @@ impl<'m> Stepper<'m> {
     /// (the contact summary) then cover the rows made before.
     pub fn discard_rows(&mut self) {
         self.rows = Vec::new();
-        // No rows are made at all from now on (each would cost an observation: at 10 ms
-        // pieces of the three-panel case, a fifth of the stepping).
+        // No rows are made at all from now on (each would cost an observation: 1.8 % of the
+        // instructions of the three-panel case's stepping at 10 ms pieces, valgrind).
         self.state.output_times.done = true;
     }
 

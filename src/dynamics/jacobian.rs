@@ -17,6 +17,7 @@
 //! makes the caller fall back to finite differences.
 
 use super::Dynamics;
+use super::contact_pair::PairSum;
 use super::locks::{Lock, hinge_rows};
 use crate::kinematics::{ChildSide, ParentSide, hinge_kinematics, kinematics_of_sides};
 use crate::law::JacobianDual as D;
@@ -89,153 +90,13 @@ pub struct ConstraintRow {
     pub d_twist: [[f64; 6]; 2],
 }
 
-/// A body pair in contact (sample body A, probed body B): A's and B's motions seeded at lanes
-/// 0..13 and 13..26, what a sample's place and velocity in B need from them (values and their
-/// 26 derivatives, in plain matrices), and the contact force on A summed over the pair's
-/// points with its moment about B's centre of mass (N, N·m, B frame), with their derivatives
-/// (the moment about A's centre follows from these two at the end).
-struct PairSum {
-    bodies: (usize, usize),
-    /// `[N B]`.
-    dcm_n_b: nalgebra::Matrix3<D>,
-    /// `[B N](R_A − R_B)`, m.
-    a_in_b: Lanes3,
-    /// `[B A]`, by columns.
-    dcm_b_a: [Lanes3; 3],
-    /// `[B N](Ṙ_A − Ṙ_B)`, m/s.
-    velocity_a_in_b: Lanes3,
-    /// `[B N][ω_A×][N A]`, 1/s, by columns: a body-fixed offset's velocity from A's rotation,
-    /// in B.
-    spin_a_in_b: [Lanes3; 3],
-    /// `[B N]ω_B`, rad/s.
-    omega_b_in_b: Lanes3,
-    force_in_b: Lanes3,
-    moment_about_b_in_b: Lanes3,
-}
-
-/// A 3-vector's value and its derivatives in the 26 lanes of a pair (3 × 26).
-#[derive(Clone, Copy)]
-struct Lanes3 {
-    value: nalgebra::Vector3<f64>,
-    lanes: SMatrix<f64, 3, 26>,
-}
-
-impl Lanes3 {
-    fn zero() -> Self {
-        Self { value: nalgebra::Vector3::zeros(), lanes: SMatrix::zeros() }
-    }
-
-    fn of(v: &Vector3<D>) -> Self {
-        let mut m = SMatrix::<f64, 3, 26>::zeros();
-        for i in 0..3 {
-            m.set_row(i, &lanes(&v[i]).transpose());
-        }
-        Self { value: v.map(|x| x.re), lanes: m }
-    }
-
-    /// Back to dual numbers.
-    fn dual(&self) -> Vector3<D> {
-        Vector3::from_fn(|i, _| D::new(self.value[i], num_dual::Derivative::some(self.lanes.row(i).transpose())))
-    }
-}
-
-/// `[a×] m`: the cross product of a plain vector with each column of `m`.
-fn cross_lanes(a: &nalgebra::Vector3<f64>, m: &SMatrix<f64, 3, 26>) -> SMatrix<f64, 3, 26> {
-    crate::math::skew(a) * m
-}
-
-impl PairSum {
-    fn new(bodies: (usize, usize), state_a: &[D; B], state_b: &[D; B]) -> Self {
-        let ma = BodyMotion::<D>::from_body_state(state_a);
-        let mb = BodyMotion::<D>::from_body_state(state_b);
-        let dcm_b_n = mb.dcm_n_b.transpose();
-        let dcm_b_a = dcm_b_n * ma.dcm_n_b;
-        let spin = dcm_b_n
-            * nalgebra::Matrix3::from_columns(
-                &[0, 1, 2].map(|j| ma.omega_in_n.cross(&ma.dcm_n_b.column(j).into_owned())),
-            );
-        let column = |m: &nalgebra::Matrix3<D>, j: usize| Lanes3::of(&m.column(j).into_owned());
-        Self {
-            bodies,
-            a_in_b: Lanes3::of(&(dcm_b_n * (ma.r_in_n - mb.r_in_n))),
-            dcm_b_a: [0, 1, 2].map(|j| column(&dcm_b_a, j)),
-            velocity_a_in_b: Lanes3::of(&(dcm_b_n * (ma.v_in_n - mb.v_in_n))),
-            spin_a_in_b: [0, 1, 2].map(|j| column(&spin, j)),
-            omega_b_in_b: Lanes3::of(&(dcm_b_n * mb.omega_in_n)),
-            dcm_n_b: mb.dcm_n_b,
-            force_in_b: Lanes3::zero(),
-            moment_about_b_in_b: Lanes3::zero(),
-        }
-    }
-
-    /// Adds the contact of `sample` in `solid` (crate::contact::ContactSet::local_force): the
-    /// law differentiated in its six local inputs (the sample's place and velocity in B) by
-    /// dual numbers of six lanes, carried to the 26 state lanes by the chain rule in plain
-    /// 3 × 26 matrices (the sample's place `p = a + [B A] s` and velocity
-    /// `v = v_a + S s − ω_B × p` are linear in its body-fixed offset s), rather than run in
-    /// 26 lanes throughout (a fifth of the cost per point).
-    fn add(
-        &mut self,
-        set: &crate::contact::ContactSet,
-        sample: &crate::contact::solid::Sample,
-        solid: &crate::contact::solid::Solid,
-        impact_speed: Option<f64>,
-    ) {
-        let s = sample.point_in_body;
-        let mut point = self.a_in_b;
-        let mut velocity = self.velocity_a_in_b;
-        for j in 0..3 {
-            point.value += self.dcm_b_a[j].value * s[j];
-            point.lanes += self.dcm_b_a[j].lanes * s[j];
-            velocity.value += self.spin_a_in_b[j].value * s[j];
-            velocity.lanes += self.spin_a_in_b[j].lanes * s[j];
-        }
-        // − ω_B × p: −[ω×] dp + [p×] dω.
-        let w = self.omega_b_in_b.value;
-        velocity.value -= w.cross(&point.value);
-        velocity.lanes -= cross_lanes(&w, &point.lanes);
-        velocity.lanes += cross_lanes(&point.value, &self.omega_b_in_b.lanes);
-        let local = [point.value.x, point.value.y, point.value.z, velocity.value.x, velocity.value.y, velocity.value.z];
-        let seed: [D6; 6] = std::array::from_fn(|k| D6::from_re(local[k]).derivative(k));
-        let (p6, v6) = (Vector3::new(seed[0], seed[1], seed[2]), Vector3::new(seed[3], seed[4], seed[5]));
-        let Some(f) = set.local_force(sample, solid, &p6, &v6, impact_speed) else { return };
-        // ∂f/∂(p, v): 3 × 6.
-        let mut g = SMatrix::<f64, 3, 6>::zeros();
-        for i in 0..3 {
-            g.set_row(i, &f.force_in_b[i].eps.unwrap_generic(Const::<6>, U1).transpose());
-        }
-        let force = Lanes3 {
-            value: f.force_in_b.map(|c| c.re),
-            lanes: g.fixed_columns::<3>(0) * point.lanes + g.fixed_columns::<3>(3) * velocity.lanes,
-        };
-        self.force_in_b.value += force.value;
-        self.force_in_b.lanes += force.lanes;
-        // p × f: [p×] df − [f×] dp.
-        self.moment_about_b_in_b.value += point.value.cross(&force.value);
-        self.moment_about_b_in_b.lanes +=
-            cross_lanes(&point.value, &force.lanes) - cross_lanes(&force.value, &point.lanes);
-    }
-
-    /// The moment about A's centre: `Σ (p − a) × f = M_B − a × F`, with its derivatives.
-    fn moment_about_a_in_b(&self) -> Lanes3 {
-        let (a, f) = (&self.a_in_b, &self.force_in_b);
-        Lanes3 {
-            value: self.moment_about_b_in_b.value - a.value.cross(&f.value),
-            lanes: self.moment_about_b_in_b.lanes - cross_lanes(&a.value, &f.lanes) + cross_lanes(&f.value, &a.lanes),
-        }
-    }
-}
-
-/// Dual numbers of the six local contact inputs (see [`PairSum::add`]).
-type D6 = num_dual::DualSVec64<6>;
-
 /// The 26 derivatives of a dual number.
 fn lanes(x: &D) -> SMatrix<f64, 26, 1> {
     x.eps.unwrap_generic(Const::<26>, U1)
 }
 
 /// Dual numbers of one body's 13 state numbers.
-type D13 = num_dual::DualSVec64<13>;
+pub(super) type D13 = num_dual::DualSVec64<13>;
 
 /// One body's 13 state numbers seeded in its own 13 lanes.
 fn seeded13(s: &[f64]) -> [D13; B] {
@@ -243,7 +104,7 @@ fn seeded13(s: &[f64]) -> [D13; B] {
 }
 
 /// A one-body dual number in a hinge's (or pair's) 26 lanes, its 13 at `first..first + 13`.
-fn widen(x: D13, first: usize) -> D {
+pub(super) fn widen(x: D13, first: usize) -> D {
     let mut eps = SMatrix::<f64, 26, 1>::zeros();
     if let Some(g) = x.eps.0 {
         eps.fixed_rows_mut::<13>(first).copy_from(&g);
@@ -338,9 +199,10 @@ impl ExactJacobian for Dynamics<'_> {
             let mut pair: Option<PairSum> = None;
             let flush = |sum: PairSum, hinge_blocks: &mut Vec<_>, torque_in_n: &mut Vec<Vector3<f64>>| {
                 let (a, b) = sum.bodies;
-                let force_in_n = sum.dcm_n_b * sum.force_in_b.dual();
-                let on_a = (force_in_n, sum.dcm_n_b * sum.moment_about_a_in_b().dual());
-                let on_b = (-force_in_n, -(sum.dcm_n_b * sum.moment_about_b_in_b.dual()));
+                let (force_in_b, moment_about_a_in_b, moment_about_b_in_b) = sum.force_and_moments();
+                let force_in_n = sum.dcm_n_b * force_in_b;
+                let on_a = (force_in_n, sum.dcm_n_b * moment_about_a_in_b);
+                let on_b = (-force_in_n, -(sum.dcm_n_b * moment_about_b_in_b));
                 for (body_index, (force, torque)) in [(a, on_a), (b, on_b)] {
                     torque_in_n[body_index] += torque.map(re);
                     let rows = accel_rows(&model.bodies[body_index], &motions[body_index].dcm_n_b, &force, &torque);
@@ -362,7 +224,7 @@ impl ExactJacobian for Dynamics<'_> {
                     if let Some(done) = pair.take() {
                         flush(done, &mut hinge_blocks, &mut torque_in_n);
                     }
-                    pair = Some(PairSum::new((a, b), &seeded(body(a), 0), &seeded(body(b), B)));
+                    pair = Some(PairSum::new((a, b), &own[a], &own[b]));
                 }
                 if let Some(sum) = pair.as_mut() {
                     sum.add(set, sample, solid, memory.get(&p.key).copied());

@@ -7,6 +7,7 @@
 //! eq. 14 and conserves linear and angular momentum for any law.
 
 pub mod actuators;
+mod contact_pair;
 pub mod diagnose;
 pub mod engage;
 pub mod events;

@@ -18,6 +18,7 @@
 
 use super::Dynamics;
 use super::contact_pair::PairSum;
+use super::lanes::{D13, seeded13, widen};
 use super::locks::{Lock, hinge_rows};
 use crate::kinematics::{ChildSide, ParentSide, hinge_kinematics, kinematics_of_sides};
 use crate::law::JacobianDual as D;
@@ -93,23 +94,6 @@ pub struct ConstraintRow {
 /// The 26 derivatives of a dual number.
 fn lanes(x: &D) -> SMatrix<f64, 26, 1> {
     x.eps.unwrap_generic(Const::<26>, U1)
-}
-
-/// Dual numbers of one body's 13 state numbers.
-pub(super) type D13 = num_dual::DualSVec64<13>;
-
-/// One body's 13 state numbers seeded in its own 13 lanes.
-fn seeded13(s: &[f64]) -> [D13; B] {
-    std::array::from_fn(|k| D13::from_re(s[k]).derivative(k))
-}
-
-/// A one-body dual number in a hinge's (or pair's) 26 lanes, its 13 at `first..first + 13`.
-pub(super) fn widen(x: D13, first: usize) -> D {
-    let mut eps = SMatrix::<f64, 26, 1>::zeros();
-    if let Some(g) = x.eps.0 {
-        eps.fixed_rows_mut::<13>(first).copy_from(&g);
-    }
-    D::new(x.re, num_dual::Derivative::some(eps))
 }
 
 /// One body's 13 state numbers as dual numbers seeded at lanes `first..first + 13`.

@@ -12,6 +12,7 @@ pub mod diagnose;
 pub mod engage;
 pub mod events;
 pub mod jacobian;
+mod lanes;
 pub mod locks;
 pub mod momentum;
 pub mod newton;

@@ -71,7 +71,18 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     // the relaxed rule let the tape-latch z-fold's latch chatter at rtol 1e-10.
     const KAPPA: f64 = 0.03;
     let diverging = if error_norm == ErrorNorm::Displacement { 2.0 } else { 1.0 };
-    const MAX_ITERATIONS: usize = 8;
+    // Iterations before Newton gives up on a stage (then a fresh Jacobian, then half the
+    // step). With contact a stage often converges linearly at a rate of 0.4-0.6 (the
+    // Hunt-Crossley damping of the points touching changes fast with their depth, which the
+    // Jacobian at the step's start does not follow), so that 8 gave up on stages that two
+    // more iterations would have finished: the thick flasher example at rtol 0.75-1.25e-4
+    // (11 runs, for its impacts make one run's time a matter of chance) took 3.99-4.27 s
+    // with 10 against 3.98-6.74 s with 8 (medians 4.12 and 4.83 s; 12: 4.27, 16: 4.10); the
+    // thick starshade's first 8 s at rtol 0.9-1.2e-4 151-270 s with 10 and 151-698 s with 8
+    // (4 runs each, medians 171 and 167 s; the 698-s path made 13,532 Jacobians); the 5 x 2
+    // and 6 x 3 thick flashers (defaults, 5 s) the same within 1 % (2-core AMD EPYC, load
+    // ~1, 2026-11-28).
+    const MAX_ITERATIONS: usize = 10;
     // Whether h was set to land on an event (exempt from the step floor), and whether the
     // last rejection was for a non-finite Newton iteration.
     let (mut forced, mut non_finite) = (false, false);

@@ -16,9 +16,8 @@ pub enum SolidKind {
     /// A simple polygon (counter-clockwise, x and y in the solid frame, m) extruded
     /// ±`half_thickness` along z (m): a plate of any outline, convex or not.
     Prism {
-        /// Vertices, m.
-        polygon: Vec<[f64; 2]>,
-        /// Its edges, with what [`polygon_distance`] needs of each formed once.
+        /// Its edges in order (each starting at a vertex), with what [`polygon_distance`]
+        /// needs of each formed once.
         edges: Vec<Edge>,
         /// Half the thickness, m (> 0).
         half_thickness: f64,
@@ -140,7 +139,7 @@ impl Solid {
                 }
             }
         }
-        let kind = SolidKind::Prism { edges: Edge::of(&polygon), polygon, half_thickness: h };
+        let kind = SolidKind::Prism { edges: Edge::of(&polygon), half_thickness: h };
         Self::finish(origin, dcm_s_b, kind, samples)
     }
 
@@ -204,8 +203,8 @@ impl Solid {
         };
         let to_body = |p: Vec3| origin + dcm_s_b.transpose() * p;
         match &kind {
-            SolidKind::Prism { polygon, half_thickness, .. } => {
-                for p in polygon {
+            SolidKind::Prism { edges, half_thickness } => {
+                for p in edges.iter().map(|e| e.a) {
                     for zz in [-half_thickness, *half_thickness] {
                         grow(to_body(Vec3::new(p[0], p[1], zz)), 0.0);
                     }
@@ -258,7 +257,7 @@ impl Solid {
         let dcm: Matrix3<T> = lift(&self.dcm_s_b);
         let p = dcm * (p_in_body - self.origin_in_body.map(real::<T>));
         let (d, n) = match &self.kind {
-            SolidKind::Prism { edges, half_thickness, .. } => {
+            SolidKind::Prism { edges, half_thickness } => {
                 let (d2, g2) = polygon_distance(edges, [p.x, p.y]);
                 extrude(d2, g2, p.z, *half_thickness)
             }
@@ -294,7 +293,7 @@ impl Solid {
     pub fn distance_and_lateral(&self, p_in_body: &Vec3) -> (f64, f64) {
         let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
         match &self.kind {
-            SolidKind::Prism { edges, half_thickness, .. } => {
+            SolidKind::Prism { edges, half_thickness } => {
                 let (d2, g2) = polygon_distance(edges, [p.x, p.y]);
                 (extrude(d2, g2, p.z, *half_thickness).0, d2)
             }
@@ -377,7 +376,8 @@ fn extrude<T: Real>(d2: T, g2: [T; 2], z: T, h: f64) -> (T, Vector3<T>) {
 /// divisions per edge).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Edge {
-    /// Its start and end, m.
+    /// Its start and end, m (the end as given, not `a + e`: the crossing test compares
+    /// the vertices' own coordinates, so that neighbouring edges agree on a vertex).
     a: [f64; 2],
     b: [f64; 2],
     /// `b − a`, m.

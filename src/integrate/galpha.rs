@@ -24,6 +24,7 @@
 //! `(α_m/(hγ)) W` with `W = I − h γ (α_f/α_m) J`: the [`NewtonMatrix`] of SDIRK4 with
 //! `hγ (α_f/α_m)` in place of its `hγ`.
 
+use super::anderson::{Anderson, SLOW};
 use super::newton::NewtonMatrix;
 use super::step::{
     Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, first_step_rule, norm,
@@ -170,6 +171,8 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut err = vec![0.0; n];
     let mut cont = vec![vec![0.0; n]; 4];
+    let mut accelerate = Anderson::default();
+    let mut weights = vec![0.0; n];
     let (mut forced, mut non_finite, mut after_rejection) = (false, false, false);
     let mut short_steps = 0;
     let mut h_prev = h;
@@ -226,9 +229,15 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             delta[k] = h * yd[k] + h * gamma * (yd_guess - yd[k]);
         }
         let c_m = alpha_m / (h * gamma);
+        // Slow iterations are mixed (`anderson.rs`), in the weights of the convergence test.
+        accelerate.reset();
+        for k in 0..n {
+            weights[k] = 1.0 / (atol + rtol * y[k].abs());
+        }
         let mut converged = false;
         let mut iterations = 0;
         let mut previous = f64::INFINITY;
+        let mut slow = false;
         for iteration in 1..=MAX_ITERATIONS {
             iterations = iteration;
             stats.newton_iterations += 1;
@@ -243,8 +252,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             }
             newton.solve(&mut r);
             for k in 0..n {
-                delta[k] += r[k];
-                y_new[k] = y[k] + delta[k];
+                y_new[k] = y[k] + delta[k] + r[k];
             }
             // Every component as it is (rates not weighed by the step): an iteration's
             // velocity residual that the error norm would let pass at h × its size is a drift
@@ -258,8 +266,20 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             // (the round-off floor of a tolerance near f64's resolution: halving the step
             // would not lower it).
             if d <= 1.0 || (d <= 1.0 / kappa && d > 0.5 * previous) {
+                for k in 0..n {
+                    delta[k] += r[k];
+                }
                 converged = true;
                 break;
+            }
+            // Once an iteration is slow, the rest of this solve mixes its iterates.
+            slow = slow || d > SLOW * previous;
+            if slow {
+                accelerate.advance(&mut delta, &r, &weights);
+            } else {
+                for k in 0..n {
+                    delta[k] += r[k];
+                }
             }
             if !d.is_finite() || d > 2.0 * previous {
                 non_finite = !d.is_finite();

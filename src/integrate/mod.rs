@@ -10,6 +10,7 @@
 //! - [`galpha`]: the generalized-α method at fixed or adaptive steps ([`integrate_generalized_alpha`]),
 //!   with the same Newton matrix.
 
+mod anderson;
 pub mod explicit;
 pub mod galpha;
 pub mod newton;

@@ -5,6 +5,7 @@
 //! The Newton matrix `W = I − hγJ` is supplied by a [`NewtonMatrix`]: how the Jacobian is
 //! formed and factored is separate from the method.
 
+use super::anderson::{Anderson, SLOW};
 use super::newton::NewtonMatrix;
 use super::step::{
     Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, first_step_rule, norm,
@@ -62,6 +63,8 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut fz: Vec<Vec<f64>> = vec![vec![0.0; n]; 5];
     let (mut rhs, mut yi, mut delta, mut err) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut cont = vec![vec![0.0; n]; 4];
+    let mut accelerate = Anderson::default();
+    let mut weights = vec![0.0; n];
     // Newton stops when the increment is below `KAPPA` in the tolerance-scaled norm, and
     // gives up when it grows (Hairer's rule), or with the displacement norm only when it
     // more than doubles: simplified Newton on lightly damped stiff vibrations contracts
@@ -144,7 +147,16 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 }
             }
             let mut previous = f64::INFINITY;
+            let mut slow = false;
             let mut ok = false;
+            // Slow iterations are mixed (`anderson.rs`), in the weights of the convergence
+            // test (the rates scaled by h as it scales them).
+            accelerate.reset();
+            if i == 0 {
+                for k in 0..n {
+                    weights[k] = if rates[k] { h } else { 1.0 } / (atol + rtol * y[k].abs());
+                }
+            }
             for iteration in 1..=MAX_ITERATIONS {
                 max_iterations = max_iterations.max(iteration);
                 stats.newton_iterations += 1;
@@ -157,18 +169,23 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     delta[k] = -(z[i][k] - h * GAMMA * fz[i][k] - rhs[k]);
                 }
                 newton.solve(&mut delta);
-                for k in 0..n {
-                    z[i][k] += delta[k];
-                }
                 let d = norm(&delta, &yi, &rates, h, rtol, atol);
                 if !d.is_finite() || (previous.is_finite() && d > diverging * previous) {
                     non_finite = !d.is_finite();
                     break;
                 }
+                slow = slow || d > SLOW * previous;
                 previous = d;
-                if d <= KAPPA {
-                    ok = true;
-                    break;
+                if d <= KAPPA || !slow {
+                    for k in 0..n {
+                        z[i][k] += delta[k];
+                    }
+                    if d <= KAPPA {
+                        ok = true;
+                        break;
+                    }
+                } else {
+                    accelerate.advance(&mut z[i], &delta, &weights);
                 }
             }
             if !ok {

@@ -16,6 +16,8 @@
 //! convergence test counts it) and by normal equations of at most [`DEPTH`] unknowns; a
 //! history whose equations are ill-conditioned is cut to its newest differences.
 
+use nalgebra::{DMatrix, DVector};
+
 /// Differences kept (Anderson's m). 1, 2, 3 and 5 measured alike on the 228- and 996-panel
 /// starshades and the thick flasher example (within the runs' spread).
 pub const DEPTH: usize = 3;
@@ -96,47 +98,29 @@ impl Anderson {
     /// too ill-conditioned to trust (the differences nearly dependent).
     fn coefficients(&self, f: &[f64], w: &[f64]) -> Option<Vec<f64>> {
         let m = self.df.len();
-        let mut a = [[0.0f64; DEPTH]; DEPTH];
-        let mut b = [0.0f64; DEPTH];
+        let mut a = DMatrix::<f64>::zeros(m, m);
+        let mut b = DVector::<f64>::zeros(m);
         for k in 0..f.len() {
             let w2 = w[k] * w[k];
-            for i in 0..m {
-                let di = self.df[i][k] * w2;
+            for (i, dfi) in self.df.iter().enumerate() {
+                let di = dfi[k] * w2;
                 b[i] += di * f[k];
-                for j in 0..=i {
-                    a[i][j] += di * self.df[j][k];
+                for (j, dfj) in self.df.iter().enumerate().take(i + 1) {
+                    a[(i, j)] += di * dfj[k];
                 }
             }
         }
-        for i in 0..m {
-            for j in 0..i {
-                a[j][i] = a[i][j];
-            }
+        a.fill_upper_triangle_with_lower_triangle();
+        // A pivot of the Cholesky factor below 1e-10 of its diagonal means a difference
+        // nearly in the span of the others.
+        let diagonal = a.diagonal();
+        let cholesky = a.cholesky()?;
+        let l = cholesky.l_dirty();
+        if !(0..m).all(|i| l[(i, i)] * l[(i, i)] > 1e-10 * diagonal[i]) {
+            return None;
         }
-        // Cholesky with a relative pivot floor: a pivot below 1e-10 of its diagonal means
-        // a difference nearly in the span of the others.
-        let mut l = [[0.0f64; DEPTH]; DEPTH];
-        for i in 0..m {
-            for j in 0..=i {
-                let s = a[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
-                if i == j {
-                    if !(s > 1e-10 * a[i][i]) {
-                        return None;
-                    }
-                    l[i][i] = s.sqrt();
-                } else {
-                    l[i][j] = s / l[j][j];
-                }
-            }
-        }
-        let mut g = vec![0.0; m];
-        for i in 0..m {
-            g[i] = (b[i] - (0..i).map(|k| l[i][k] * g[k]).sum::<f64>()) / l[i][i];
-        }
-        for i in (0..m).rev() {
-            g[i] = (g[i] - (i + 1..m).map(|k| l[k][i] * g[k]).sum::<f64>()) / l[i][i];
-        }
-        g.iter().all(|x| x.is_finite()).then_some(g)
+        let g = cholesky.solve(&b);
+        g.iter().all(|x| x.is_finite()).then(|| g.iter().copied().collect())
     }
 }
 

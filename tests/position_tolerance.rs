@@ -135,7 +135,7 @@ fn a_check_that_cannot_follow_the_motion_is_a_refusal() {
         e.starts_with("run.position_tolerance = 1.029e-6 m not reached: the check of the run at rtol = atol"),
         "{e}"
     );
-    assert!(e.contains("failed (at t = 0.85"), "the impact: {e}");
+    assert!(e.contains("failed (integration failed at t = 0.85"), "the impact: {e}");
     assert!(e.contains("runs at rtol = atol"), "{e}");
     assert_eq!(rows, 0);
 }

@@ -39,14 +39,17 @@ pub struct Anderson {
     /// Differences of iterates and of increments, oldest first.
     dx: Vec<Vec<f64>>,
     df: Vec<Vec<f64>>,
+    /// Difference vectors of earlier solves, for reuse (a fresh vector of thousands of
+    /// bodies' states costs page faults).
+    spare: Vec<Vec<f64>>,
 }
 
 impl Anderson {
     /// Forgets the history (a new stage or step, or a new Jacobian).
     pub fn reset(&mut self) {
         self.has_last = false;
-        self.dx.clear();
-        self.df.clear();
+        self.spare.append(&mut self.dx);
+        self.spare.append(&mut self.df);
     }
 
     /// Advances `x` (the iterate at which the increment `f = W⁻¹(−R(x))` was formed) to the
@@ -58,7 +61,12 @@ impl Anderson {
             let (mut dx, mut df) = if self.dx.len() == DEPTH {
                 (self.dx.remove(0), self.df.remove(0))
             } else {
-                (vec![0.0; n], vec![0.0; n])
+                let mut fresh = || {
+                    let mut v = self.spare.pop().unwrap_or_default();
+                    v.resize(n, 0.0);
+                    v
+                };
+                (fresh(), fresh())
             };
             for k in 0..n {
                 dx[k] = x[k] - self.x_last[k];
@@ -79,9 +87,9 @@ impl Anderson {
             match self.coefficients(f, w) {
                 Some(g) => break g,
                 None => {
-                    // Ill-conditioned: keep the newest difference only, then none.
-                    self.dx.remove(0);
-                    self.df.remove(0);
+                    // Ill-conditioned: drop the oldest difference, down to none.
+                    self.spare.push(self.dx.remove(0));
+                    self.spare.push(self.df.remove(0));
                 }
             }
         };

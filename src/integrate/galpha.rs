@@ -272,6 +272,10 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 converged = true;
                 break;
             }
+            if !d.is_finite() || d > 2.0 * previous {
+                non_finite = !d.is_finite();
+                break;
+            }
             // Once an iteration is slow, the rest of this solve mixes its iterates.
             slow = slow || d > SLOW * previous;
             if slow {
@@ -280,10 +284,6 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 for k in 0..n {
                     delta[k] += r[k];
                 }
-            }
-            if !d.is_finite() || d > 2.0 * previous {
-                non_finite = !d.is_finite();
-                break;
             }
             previous = d;
         }

@@ -204,16 +204,17 @@ pub fn simulate_to_position(
         // A check that cannot be made (a tolerance tighter than the motion can be followed
         // at: an impact whose step falls below the run's floor) leaves the candidate without
         // an estimate: the tolerance is not reached, and the refusal says so first.
-        let check = attempt(candidate.tolerance / RATIO, &mut runs).map_err(|e| {
-            SimError::Physics(format!(
-                "run.position_tolerance = {tolerance:e} m not reached: the check of the run at rtol = atol = {:.1e} failed ({}); give a looser tolerance (or set run.rtol and run.atol yourself)",
-                candidate.tolerance,
-                match e {
-                    SimError::Integrator { t, message } => format!("at t = {t:.6} s: {message}"),
-                    other => other.to_string(),
-                }
-            ))
-        })?;
+        let check = match attempt(candidate.tolerance / RATIO, &mut runs) {
+            Ok(check) => check,
+            Err(e @ (SimError::Integrator { .. } | SimError::Physics(_))) => {
+                return Err(SimError::Physics(format!(
+                    "run.position_tolerance = {tolerance:e} m not reached: the check of the run at rtol = atol = {:.1e} failed ({e}); give a looser tolerance (or set run.rtol and run.atol yourself)",
+                    candidate.tolerance
+                )));
+            }
+            // Stopped (Ctrl-C) or an output error: as it is.
+            Err(e) => return Err(e),
+        };
         let difference = largest_difference(&candidate.rows, &check.rows);
         let estimated = coarser_error(difference, candidate.tolerance / check.tolerance);
         if estimated <= tolerance {

@@ -39,9 +39,10 @@ pub struct ContactLog {
 }
 
 impl ContactLog {
-    /// Takes in the accepted state at time `t` (s) with contact points `points`; `is_new`
-    /// tells a point that was not in contact at the last accepted state.
-    pub fn record(&mut self, t: f64, points: &[ContactPoint], is_new: impl Fn(&ContactPoint) -> bool) {
+    /// Takes in the accepted state at time `t` (s) with contact points `points`; `entry`
+    /// gives a point that was not in contact at the last accepted state its impact speed
+    /// (m/s; `None` for one that was).
+    pub fn record(&mut self, t: f64, points: &[ContactPoint], entry: impl Fn(&ContactPoint) -> Option<f64>) {
         let mut now: BTreeMap<(usize, usize), (f64, nalgebra::Vector3<f64>, f64)> = BTreeMap::new();
         for p in points {
             let (a, b) = (p.key.body.min(p.key.other) as usize, p.key.body.max(p.key.other) as usize);
@@ -49,8 +50,8 @@ impl ContactLog {
             let e = now.entry((a, b)).or_insert((0.0, nalgebra::Vector3::zeros(), 0.0));
             e.0 = e.0.max(p.depth);
             e.1 += p.force_in_n * sign;
-            if is_new(p) {
-                e.2 = e.2.max(p.rate);
+            if let Some(speed) = entry(p) {
+                e.2 = e.2.max(speed);
             }
         }
         let ended: Vec<(usize, usize)> = self.open.keys().filter(|k| !now.contains_key(k)).copied().collect();

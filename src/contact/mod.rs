@@ -498,6 +498,19 @@ impl ContactSet {
         sample.radius - solid.signed_distance(&point_in_b).0
     }
 
+    /// The approach rate of the sample `key` names against its other body at the poses and
+    /// velocities `fa` (its body) and `fb` (the other), m/s: the rate of its penetration
+    /// (> 0 approaching) along the other solid's outward normal at the sample's centre, as
+    /// the law takes it. NaN for a key that names no sample.
+    pub fn approach_rate(&self, key: &PointKey, fa: &Frame, fb: &Frame) -> f64 {
+        let Some((sample, solid)) = self.sample_and_solid(key) else { return f64::NAN };
+        let point = fa.position_in_n + fa.dcm_n_b * sample.point_in_body;
+        let point_in_b = fb.dcm_n_b.transpose() * (point - fb.position_in_n);
+        let normal_in_b = solid.signed_distance(&point_in_b).1;
+        let velocity_in_b = fb.dcm_n_b.transpose() * (fa.velocity_at(&point) - fb.velocity_at(&point));
+        -normal_in_b.dot(&velocity_in_b)
+    }
+
     /// The sample `key` names and the solid it probes.
     pub fn sample_and_solid(&self, key: &PointKey) -> Option<(&Sample, &Solid)> {
         let sa = self.solids[key.body as usize].as_ref()?;

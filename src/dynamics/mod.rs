@@ -27,6 +27,7 @@ use crate::model::Model;
 use crate::state::{BODY_STATE_LEN, BodyMotion, OMEGA, POS, QUAT, VEL};
 use locks::{Lock, Row, Workspace, constrain_accelerations, euler_index, hinge_rows};
 use std::cell::{Cell, RefCell};
+use std::collections::HashMap;
 
 /// Per-evaluation work space, kept to avoid allocating in the right-hand side.
 #[derive(Debug, Default)]
@@ -79,6 +80,10 @@ pub struct Dynamics<'m> {
     /// The contact points of the last state [`Self::contact_changes`] looked at: the step
     /// end that is usually accepted next, whose points `accept_contacts` then reuses.
     step_end_points: RefCell<Option<(Vec<f64>, Vec<ContactPoint>)>>,
+    /// The approach speeds (m/s) at which points entering contact in the step about to be
+    /// accepted crossed into it, located on the step's dense output
+    /// ([`Self::set_entry_speeds`]); taken by the next `accept_contacts`.
+    entry_speeds: RefCell<Vec<(crate::contact::PointKey, f64)>>,
     /// Per body: whether it touched another at an accepted step since the last
     /// [`Self::take_touched`].
     touched: RefCell<Vec<bool>>,
@@ -163,6 +168,7 @@ impl<'m> Dynamics<'m> {
             contact_record: RefCell::new(ContactRecord::default()),
             contact_log: RefCell::new(Default::default()),
             step_end_points: RefCell::new(None),
+            entry_speeds: RefCell::new(Vec::new()),
             touched: RefCell::new(vec![false; nb]),
             proximity: RefCell::new(None),
             evaluations: Cell::new(0),
@@ -304,6 +310,22 @@ impl<'m> Dynamics<'m> {
         set.depth(key, &frame(key.body), &frame(key.other))
     }
 
+    /// The approach rate of contact point `key` at state `y` (m/s, > 0 approaching): see
+    /// [`crate::contact::ContactSet::approach_rate`].
+    pub fn contact_rate(&self, key: &crate::contact::PointKey, y: &[f64]) -> f64 {
+        let Some(set) = &self.model.contact else { return f64::NAN };
+        let frame = |b: u32| BodyMotion::from_state(y, b as usize).contact_frame();
+        set.approach_rate(key, &frame(key.body), &frame(key.other))
+    }
+
+    /// The speeds (m/s) at which points came into contact within the step about to be
+    /// accepted, at the instants they crossed (located by the caller on the step's dense
+    /// output): the next [`Self::accept`] holds these as their impact speeds rather than
+    /// their rates at the step's end, which depend on where the step happened to end.
+    pub fn set_entry_speeds(&self, speeds: Vec<(crate::contact::PointKey, f64)>) {
+        *self.entry_speeds.borrow_mut() = speeds;
+    }
+
     /// Contact over the run so far (at accepted steps).
     pub fn contact_record(&self) -> ContactRecord {
         *self.contact_record.borrow()
@@ -333,9 +355,15 @@ impl<'m> Dynamics<'m> {
             _ => self.contact_points(y),
         };
         self.contact_record.borrow_mut().record(t, &points);
+        // A point new in contact holds the speed at which it crossed into it, where the
+        // step's dense output located that (crate::simulate), else its rate now.
+        let entry: HashMap<_, _> = std::mem::take(&mut *self.entry_speeds.borrow_mut()).into_iter().collect();
+        let new_speed = |p: &ContactPoint, memory: &ContactMemory| {
+            (!memory.contains_key(&p.key)).then(|| entry.get(&p.key).copied().unwrap_or(p.rate))
+        };
         {
             let memory = self.contact_memory.borrow();
-            self.contact_log.borrow_mut().record(t, &points, |p| !memory.contains_key(&p.key));
+            self.contact_log.borrow_mut().record(t, &points, |p| new_speed(p, &memory));
         }
         // The bodies in an impact are marked for the animation, not the stowed package
         // resting on itself (which would mark the whole wrap from t = 0).
@@ -345,7 +373,8 @@ impl<'m> Dynamics<'m> {
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {
-            memory.insert(p.key, old.get(&p.key).copied().unwrap_or(p.rate));
+            let speed = new_speed(&p, &old).or_else(|| old.get(&p.key).copied()).unwrap_or(p.rate);
+            memory.insert(p.key, speed);
         }
         if let Some(list) = self.proximity.borrow_mut().as_mut() {
             list.remember(&memory);

@@ -204,17 +204,9 @@ pub fn simulate_to_position(
         // A check that cannot be made (a tolerance tighter than the motion can be followed
         // at: an impact whose step falls below the run's floor) leaves the candidate without
         // an estimate: the tolerance is not reached, and the refusal says so first.
-        let check = match attempt(candidate.tolerance / RATIO, &mut runs) {
-            Ok(check) => check,
-            Err(e @ (SimError::Integrator { .. } | SimError::Physics(_))) => {
-                return Err(SimError::Physics(format!(
-                    "run.position_tolerance = {tolerance:e} m not reached: the check of the run at rtol = atol = {:.1e} failed ({e}); give a looser tolerance (or set run.rtol and run.atol yourself)",
-                    candidate.tolerance
-                )));
-            }
-            // Stopped (Ctrl-C) or an output error: as it is.
-            Err(e) => return Err(e),
-        };
+        let check = attempt(candidate.tolerance / RATIO, &mut runs).map_err(|e| {
+            not_reached(tolerance, &format!("the check of the run at rtol = atol = {:.1e}", candidate.tolerance), e)
+        })?;
         let difference = largest_difference(&candidate.rows, &check.rows);
         let estimated = coarser_error(difference, candidate.tolerance / check.tolerance);
         if estimated <= tolerance {
@@ -254,8 +246,24 @@ pub fn simulate_to_position(
         if aim >= check.tolerance && check.tolerance >= RATIO * TIGHTEST {
             candidate = check;
         } else {
-            candidate = attempt(aim, &mut runs)?;
+            // A tighter candidate that cannot be made is, likewise, the tolerance not reached.
+            candidate = attempt(aim, &mut runs)
+                .map_err(|e| not_reached(tolerance, &format!("the run at rtol = atol = {aim:.1e}"), e))?;
         }
+    }
+}
+
+/// A run the position tolerance made tighter that failed (`what`: which, at what tolerance;
+/// an integration or physics failure: a tolerance tighter than the motion can be followed
+/// at, an impact whose step falls below the run's floor) as the refusal of the tolerance
+/// `tolerance` (m), said first, with the failure's own message; a run stopped (Ctrl-C) or an
+/// output error as it is.
+fn not_reached(tolerance: f64, what: &str, e: SimError) -> SimError {
+    match e {
+        SimError::Integrator { .. } | SimError::Physics(_) => SimError::Physics(format!(
+            "run.position_tolerance = {tolerance:e} m not reached: {what} failed ({e}); give a looser tolerance (or set run.rtol and run.atol yourself)"
+        )),
+        other => other,
     }
 }
 

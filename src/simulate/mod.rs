@@ -17,6 +17,7 @@
 //! - [`estimate`]: a run's wall time, projected from a short trial of it.
 
 pub mod accuracy;
+mod contact_entry;
 pub mod estimate;
 pub mod pace;
 pub mod report;

@@ -2,6 +2,7 @@
 //! located law events, lock engagement, breaks of the right-hand side, momentum restoration,
 //! and the conservation figures, with the state a run keeps between its steps.
 
+use super::contact_entry::{illinois, locate_contact_change, locate_entry_speeds};
 use super::pace::{Progress, ProgressFn};
 use super::report::{Drift, SimError};
 use crate::dynamics::{Dynamics, LawEvent};
@@ -329,61 +330,6 @@ impl StreamOut<'_, '_, '_, '_> {
         best
     }
 
-    /// The first instant inside the step at which a contact point enters or leaves contact,
-    /// if one does (s): the contact law's `K δⁿ` bends there (its higher derivatives jump),
-    /// which a step straddling it integrates at less than its order, unseen by the error
-    /// estimate. The step is retaken to end there, as at a law's event, so that the energy
-    /// balance E + D converges with the tolerance (docs/contact.md). Found by Illinois regula
-    /// falsi on each changed point's penetration along the dense output (its two bodies only);
-    /// the instant returned lies just past the earliest crossing, so that the point has its
-    /// new status at the end of the retaken step.
-    fn locate_contact_change(&self, step: &Step<'_>) -> Option<f64> {
-        let h = step.t - step.t_prev;
-        if h <= 0.0 || !self.s.locate_contacts || self.dynamics.model().contact.is_none() {
-            return None;
-        }
-        let changed = self.dynamics.contact_changes(step.y);
-        if changed.is_empty() {
-            return None;
-        }
-        let body = |b: u32| BODY_STATE_LEN * b as usize..BODY_STATE_LEN * (b as usize + 1);
-        let mut y = vec![0.0; step.y.len()];
-        let mut roots = Vec::with_capacity(changed.len());
-        for key in &changed {
-            // g < 0 before the crossing, ≥ 0 after: the penetration for a point entering, its
-            // negative for one leaving.
-            let sign = if self.dynamics.contact_memory().contains_key(key) { -1.0 } else { 1.0 };
-            let mut g_at = |t: f64| {
-                step.interpolate_range(t, body(key.body), &mut y);
-                step.interpolate_range(t, body(key.other), &mut y);
-                sign * self.dynamics.contact_depth(key, &y)
-            };
-            let (ga, gb) = (g_at(step.t_prev), g_at(step.t));
-            if !(ga < 0.0 && gb >= 0.0) {
-                continue;
-            }
-            let b = illinois(&mut g_at, |g| g >= 0.0, (step.t_prev, ga), (step.t, gb), 1e-9 * h, 60);
-            roots.push(b);
-        }
-        let first = roots.iter().copied().fold(f64::INFINITY, f64::min);
-        if !first.is_finite() {
-            return None;
-        }
-        // Points of one face meet another face all but at once (1e-12 s apart): one landing
-        // past every crossing within a tenth of the step of the first, not one tiny step
-        // per point (which would drive the step size to the floor).
-        let cluster = first + 0.1 * h;
-        let last = roots.iter().copied().filter(|&r| r <= cluster).fold(first, f64::max);
-        // Landed a millionth of the step past the root (the retaken step's own solution
-        // differs from this dense output by its local error: ending just past the root, it
-        // ends with the point's new status, and the next step does not find the crossing
-        // again a round-off after its start). A crossing in the first tenth of the step is
-        // left to it (the bend so near its start costs little, and landing there would
-        // shrink the steps without end); one at its end needs no retaking.
-        let land = last + 1e-6 * h;
-        (first > step.t_prev + 0.1 * h && land < step.t - 1e-12 * step.t.abs().max(1.0)).then_some(land)
-    }
-
     /// Applies law event `k` at `(t, y)` and resets the event functions' reference values.
     /// Values a round-off below zero in the new memory count as zero (the state sits on the
     /// switching surface); a crossing soon after is then found at the next step's start. Many
@@ -473,7 +419,8 @@ impl StreamOut<'_, '_, '_, '_> {
             return Ok(Control::Truncate { t: tr });
         }
         if event.is_none()
-            && let Some(t) = self.locate_contact_change(step)
+            && self.s.locate_contacts
+            && let Some(t) = locate_contact_change(self.dynamics, step)
         {
             // A contact point enters or leaves inside the step: take it again to end there.
             self.s.pending = None;
@@ -488,6 +435,7 @@ impl StreamOut<'_, '_, '_, '_> {
             self.s.pending = None;
             return Ok(Control::Truncate { t: b });
         }
+        locate_entry_speeds(self.dynamics, step);
         if let Some(k) = event {
             self.emit_until(step, step.t, step.y)?;
             self.dynamics.accept(step.t, step.y).map_err(SimError::Physics)?;
@@ -612,44 +560,4 @@ impl Tracked<'_, '_, '_, '_, '_> {
         }
         Ok(control)
     }
-}
-
-/// Illinois regula falsi (Dowell & Jarratt 1971) on a bracket whose end `(a, g(a))` lies
-/// before a crossing and `(b, g(b))` after it (`after(g)` tells which side a value is on):
-/// narrowed to `tol` (s) in at most `iterations` evaluations of `g`, it returns the end after
-/// the crossing. A retained end's value is halved when the other moves twice running, so the
-/// bracket closes from both sides.
-fn illinois(
-    g: &mut impl FnMut(f64) -> f64,
-    after: impl Fn(f64) -> bool,
-    (mut a, mut ga): (f64, f64),
-    (mut b, mut gb): (f64, f64),
-    tol: f64,
-    iterations: usize,
-) -> f64 {
-    let mut side = 0;
-    for _ in 0..iterations {
-        if b - a <= tol {
-            break;
-        }
-        let mut c = b - gb * (b - a) / (gb - ga);
-        if !(c > a && c < b) {
-            c = 0.5 * (a + b);
-        }
-        let gc = g(c);
-        if after(gc) {
-            (b, gb) = (c, gc);
-            if side == -1 {
-                ga *= 0.5;
-            }
-            side = -1;
-        } else {
-            (a, ga) = (c, gc);
-            if side == 1 {
-                gb *= 0.5;
-            }
-            side = 1;
-        }
-    }
-    b
 }

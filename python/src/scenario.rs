@@ -287,8 +287,8 @@ pub(crate) fn report_dict<'py>(
     let methods: Vec<(f64, &str, &str)> = report.methods.iter().map(|m| (m.from, m.method, m.why.as_str())).collect();
     d.set_item("methods", methods)?;
     d.set_item("rows", report.rows)?;
-    // run.position_tolerance (None without): asked and estimated (m), the output run's rtol,
-    // and every run made as (rtol = atol, wall s).
+    // run.position_tolerance (None without): asked and estimated (m), the output run's rtol
+    // and its check's, and every run made as (rtol = atol, wall s).
     match &report.position_accuracy {
         None => d.set_item("position_accuracy", py.None())?,
         Some(a) => {
@@ -297,6 +297,7 @@ pub(crate) fn report_dict<'py>(
             pd.set_item("estimated", a.estimated)?;
             pd.set_item("difference", a.difference)?;
             pd.set_item("rtol", a.rtol)?;
+            pd.set_item("check_rtol", a.check_rtol)?;
             pd.set_item("runs", a.runs.clone())?;
             d.set_item("position_accuracy", pd)?;
         }

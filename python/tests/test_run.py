@@ -67,6 +67,7 @@ def test_position_tolerance_reports_its_estimate():
     a = s.run(columns=["t"]).report["position_accuracy"]
     assert a["asked"] == 1e-4 and 0 < a["estimated"] <= 1e-4
     assert len(a["runs"]) >= 2 and a["rtol"] in [r[0] for r in a["runs"]]
+    assert a["check_rtol"] in [r[0] for r in a["runs"]] and a["check_rtol"] < a["rtol"]
     with pytest.raises(Exception, match="position_tolerance"):
         s.start()
 

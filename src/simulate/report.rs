@@ -135,11 +135,13 @@ pub struct PositionAccuracy {
     /// The output run's estimated largest error in any body's centre of mass over its rows, m
     /// (N components).
     pub estimated: f64,
-    /// The largest difference between the output run and its check (a run at a quarter of
-    /// its tolerance), m.
+    /// The largest difference between the output run and its check, m.
     pub difference: f64,
     /// The output run's rtol = atol.
     pub rtol: f64,
+    /// Its check's rtol = atol: a quarter of `rtol`, or, for an output loosened from a run
+    /// far within the tolerance, that run's (docs/scenario.md, *A position tolerance*).
+    pub check_rtol: f64,
     /// Every run made, in order: (rtol = atol, wall time s).
     pub runs: Vec<(f64, f64)>,
 }

@@ -71,9 +71,10 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             a.asked
         );
         outln!(
-            "                   the output's rtol = atol = {:.1e}; it differs by {:.2e} m from its check at a quarter of that; {} runs: {}",
+            "                   the output's rtol = atol = {:.1e}; it differs by {:.2e} m from its check at {:.1e}; {} runs: {}",
             a.rtol,
             a.difference,
+            a.check_rtol,
             a.runs.len(),
             tolerances.join(", ")
         );

@@ -21,7 +21,7 @@
 //! is aimed at 2/3 of the tolerance by the power law, with the exponent the last two
 //! candidates show (within [0.4, 2]; 2/3 at first), at most 1,000 times tighter at once; a
 //! check looser than that aim becomes the next candidate itself. A candidate that passes
-//! far within the tolerance is loosened ([`loosen`]). A run that fails (a loose
+//! far within the tolerance is loosened (`loosen`). A run that fails (a loose
 //! tolerance can make a hysteresis law's events chatter) is made again at a tenth of its
 //! tolerance while runs are left. A tolerance not reached within [`MAX_RUNS`] runs or at
 //! [`TIGHTEST`] stops with what was estimated.
@@ -274,11 +274,11 @@ struct Passed {
 }
 
 /// A passing run estimated more than this many times within the tolerance is loosened
-/// ([`loosen`]), so that where the error follows its power law the error delivered is
+/// (`loosen`), so that where the error follows its power law the error delivered is
 /// within this factor of the tolerance both ways.
 pub const WITHIN: f64 = 3.0;
 
-/// The most runs [`loosen`] adds.
+/// The most runs `loosen` adds.
 pub const LOOSENING_RUNS: usize = 2;
 
 /// The order the first loosening assumes (the error as `τ^q`): higher than

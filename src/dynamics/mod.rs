@@ -293,7 +293,13 @@ impl<'m> Dynamics<'m> {
         if self.model.contact.is_none() {
             return Vec::new();
         }
-        let now = self.contact_points(y);
+        // The points this state was probed for already (a located change then the step's
+        // acceptance ask at one state), else probed now.
+        let cached = self.step_end_points.borrow_mut().take();
+        let now = match cached {
+            Some((at, points)) if at.as_slice() == y => points,
+            _ => self.contact_points(y),
+        };
         let memory = self.contact_memory.borrow();
         let mut changed: Vec<_> = now.iter().map(|p| p.key).filter(|k| !memory.contains_key(k)).collect();
         let in_now: std::collections::HashSet<_> = now.iter().map(|p| p.key).collect();
@@ -373,7 +379,7 @@ impl<'m> Dynamics<'m> {
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {
-            let speed = new_speed(&p, &old).or_else(|| old.get(&p.key).copied()).unwrap_or(p.rate);
+            let speed = old.get(&p.key).copied().or_else(|| new_speed(&p, &old)).unwrap_or(p.rate);
             memory.insert(p.key, speed);
         }
         if let Some(list) = self.proximity.borrow_mut().as_mut() {

@@ -244,14 +244,13 @@ pub fn simulate_to_position(
         // from 2/3), kept within [0.4, 2]; a tolerance at most 1,000 times tighter at once.
         let order = match last {
             Some((t, e)) if t > candidate.tolerance && e > estimated => {
-                ((e / estimated).ln() / (t / candidate.tolerance).ln()).clamp(0.4, 2.0)
+                order_between((t, e), (candidate.tolerance, estimated))
             }
             Some(_) => 0.4,
             None => TOLERANCE_ORDER,
         };
         last = Some((candidate.tolerance, estimated));
-        let factor = (2.0 * tolerance / (3.0 * estimated.max(f64::MIN_POSITIVE))).powf(1.0 / order);
-        let aim = clamp(candidate.tolerance * factor.max(1e-3));
+        let aim = clamp(candidate.tolerance * aim_factor(tolerance, estimated, order).max(1e-3));
         if aim >= check.tolerance && check.tolerance >= RATIO * TIGHTEST {
             candidate = check;
         } else {
@@ -260,6 +259,18 @@ pub fn simulate_to_position(
                 .map_err(|e| not_reached(tolerance, &format!("the run at rtol = atol = {aim:.1e}"), e))?;
         }
     }
+}
+
+/// The factor to move a run's tolerance by so that its error, estimated `estimated` (m),
+/// becomes 2/3 of `tolerance` (m), if the error goes as the tolerance to the power `order`.
+fn aim_factor(tolerance: f64, estimated: f64, order: f64) -> f64 {
+    (2.0 * tolerance / (3.0 * estimated.max(f64::MIN_POSITIVE))).powf(1.0 / order)
+}
+
+/// The power law's exponent two runs show, each as (tolerance, estimated error m), the
+/// first the looser; kept within [0.4, 2].
+fn order_between((loose, e_loose): (f64, f64), (tight, e_tight): (f64, f64)) -> f64 {
+    ((e_loose / e_tight.max(f64::MIN_POSITIVE)).ln() / (loose / tight).ln()).clamp(0.4, 2.0)
 }
 
 /// A run whose error is estimated within the position tolerance.
@@ -307,8 +318,7 @@ fn loosen(
         if passed.estimated * WITHIN >= tolerance || runs.len() >= MAX_RUNS || tight >= LOOSEST {
             break;
         }
-        let factor = (2.0 * tolerance / (3.0 * passed.estimated.max(f64::MIN_POSITIVE))).powf(1.0 / order);
-        let aim = clamp(tight * factor.min(1e6));
+        let aim = clamp(tight * aim_factor(tolerance, passed.estimated, order).min(1e6));
         if aim < 1.5 * tight {
             break;
         }
@@ -330,7 +340,7 @@ fn loosen(
             passed = Passed { trial: loose, estimated, difference, check_tolerance: tight };
         } else {
             // Too loose: the order the two runs show, for one more try between them.
-            order = ((estimated / passed.estimated.max(f64::MIN_POSITIVE)).ln() / (aim / tight).ln()).clamp(0.4, 2.0);
+            order = order_between((aim, estimated), (tight, passed.estimated));
         }
     }
     Ok(passed)

@@ -29,20 +29,11 @@ pub(super) fn locate_contact_change(dynamics: &Dynamics<'_>, step: &Step<'_>) ->
     let mut y = vec![0.0; step.y.len()];
     let mut roots = Vec::with_capacity(changed.len());
     for key in &changed {
-        // g < 0 before the crossing, ≥ 0 after: the penetration for a point entering, its
-        // negative for one leaving.
-        let sign = if dynamics.contact_memory().contains_key(key) { -1.0 } else { 1.0 };
-        let mut g_at = |t: f64| {
-            step.interpolate_range(t, body_range(key.body), &mut y);
-            step.interpolate_range(t, body_range(key.other), &mut y);
-            sign * dynamics.contact_depth(key, &y)
-        };
-        let (ga, gb) = (g_at(step.t_prev), g_at(step.t));
-        if !(ga < 0.0 && gb >= 0.0) {
-            continue;
+        // A point leaving: the crossing of its negative penetration.
+        let leaving = dynamics.contact_memory().contains_key(key);
+        if let Some(b) = crossing(dynamics, step, key, leaving, (1e-9 * h, 60), &mut y) {
+            roots.push(b);
         }
-        let b = illinois(&mut g_at, |g| g >= 0.0, (step.t_prev, ga), (step.t, gb), 1e-9 * h, 60);
-        roots.push(b);
     }
     let first = roots.iter().copied().fold(f64::INFINITY, f64::min);
     if !first.is_finite() {
@@ -84,27 +75,43 @@ pub(super) fn locate_entry_speeds(dynamics: &Dynamics<'_>, step: &Step<'_>) {
     let mut speeds = Vec::with_capacity(entering.len());
     let mut y = vec![0.0; step.y.len()];
     for key in entering {
-        let (a, b) = (body_range(key.body), body_range(key.other));
-        let at = |t: f64, y: &mut [f64]| {
-            step.interpolate_range(t, a.clone(), y);
-            step.interpolate_range(t, b.clone(), y);
-        };
-        let mut g_at = |t: f64| {
-            at(t, &mut y);
-            dynamics.contact_depth(&key, &y)
-        };
-        let (ga, gb) = (g_at(step.t_prev), g_at(step.t));
-        if !(ga < 0.0 && gb >= 0.0) {
-            continue;
-        }
-        let crossing = illinois(&mut g_at, |g| g >= 0.0, (step.t_prev, ga), (step.t, gb), 1e-6 * h, 40);
-        at(crossing, &mut y);
+        let Some(t) = crossing(dynamics, step, &key, false, (1e-6 * h, 40), &mut y) else { continue };
+        interpolate_pair(step, &key, t, &mut y);
         let rate = dynamics.contact_rate(&key, &y);
         if rate.is_finite() {
             speeds.push((key, rate));
         }
     }
     dynamics.set_entry_speeds(speeds);
+}
+
+/// The instant within `step` at which point `key` crosses into contact (out of it, if
+/// `leaving`), on the step's dense output, located by [`illinois`] to `(tol s, iterations)`
+/// (the end just after the crossing); `None` if its penetration does not change sign over
+/// the step. `y` is work space of the state's length.
+fn crossing(
+    dynamics: &Dynamics<'_>,
+    step: &Step<'_>,
+    key: &PointKey,
+    leaving: bool,
+    (tol, iterations): (f64, usize),
+    y: &mut [f64],
+) -> Option<f64> {
+    // g < 0 before the crossing, ≥ 0 after.
+    let sign = if leaving { -1.0 } else { 1.0 };
+    let mut g_at = |t: f64| {
+        interpolate_pair(step, key, t, y);
+        sign * dynamics.contact_depth(key, y)
+    };
+    let (ga, gb) = (g_at(step.t_prev), g_at(step.t));
+    (ga < 0.0 && gb >= 0.0).then(|| illinois(&mut g_at, |g| g >= 0.0, (step.t_prev, ga), (step.t, gb), tol, iterations))
+}
+
+/// The dense-output state at `t` of the two bodies of point `key`, written into their
+/// components of `y`.
+fn interpolate_pair(step: &Step<'_>, key: &PointKey, t: f64, y: &mut [f64]) {
+    step.interpolate_range(t, body_range(key.body), y);
+    step.interpolate_range(t, body_range(key.other), y);
 }
 
 /// The state components of body `b`.

@@ -71,8 +71,8 @@ impl ContactSet {
                 if side.gap >= shift + chord * side.reach + SLACK {
                     continue;
                 }
-                for s in &side.samples {
-                    if s.gap < shift + chord * s.reach + SLACK {
+                for (s, &[gap, r]) in side.samples.iter().zip(&side.bounds) {
+                    if gap < shift + chord * r + SLACK {
                         let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
                         let impact = || (!s.impact.is_nan()).then_some(s.impact);
                         let lateral = s.lateral + shift + chord * s.reach + SLACK;
@@ -114,6 +114,11 @@ pub struct NearSide {
     pub gap: f64,
     /// The largest of their reaches, m.
     pub reach: f64,
+    /// Each sample's `[gap, reach]` (m), in `samples`' order: all that a right-hand side's
+    /// scan for the samples to probe reads, packed. On the thick flasher example a right-hand
+    /// side scans ~6,500 samples to probe ~320 (perf: the scan over the whole 40-byte records
+    /// was ~6 % of the run's samples; packed, the run is 1–2 % faster, within the noise).
+    bounds: Vec<[f64; 2]>,
     /// At the reference: the body's attitude in the other's frame and its origin there (m).
     reference: (Mat3, Vec3),
     /// The places in `samples` whose `impact` is set (not NaN).
@@ -122,6 +127,11 @@ pub struct NearSide {
     /// of it, at the reference): what [`Proximity::remember`] looks up, rather than every
     /// sample.
     touching: Vec<u32>,
+}
+
+/// Each sample's `[gap, reach]`.
+fn bounds_of(samples: &[NearSample]) -> Vec<[f64; 2]> {
+    samples.iter().map(|s| [s.gap, s.reach]).collect()
 }
 
 /// The places in `samples` whose gap is at most [`SLACK`].
@@ -135,7 +145,8 @@ impl NearSide {
         let gap = samples.iter().map(|s| s.gap).fold(f64::INFINITY, f64::min);
         let reach = samples.iter().map(|s| s.reach).fold(0.0, f64::max);
         let touching = touching_of(&samples);
-        Self { samples, gap, reach, reference: fa.in_frame_of(fb), remembered: Vec::new(), touching }
+        let bounds = bounds_of(&samples);
+        Self { samples, gap, reach, bounds, reference: fa.in_frame_of(fb), remembered: Vec::new(), touching }
     }
 
     /// How far the body has moved in the other's frame since the reference, given its
@@ -178,7 +189,7 @@ impl NearSide {
     ) {
         const FAR: f64 = 4.0;
         let mut least = f64::INFINITY;
-        for s in &mut self.samples {
+        for (s, packed) in self.samples.iter_mut().zip(&mut self.bounds) {
             let moved = shift + chord * s.reach;
             let bound = s.gap - moved;
             if bound > FAR * moved {
@@ -189,6 +200,7 @@ impl NearSide {
                 let (d, lateral) = solid.distance_and_lateral(&(dcm_b_a * sample.point_in_body + r_ab));
                 (s.gap, s.lateral) = (d - sample.radius, lateral);
             }
+            packed[0] = s.gap;
             least = least.min(s.gap);
         }
         self.gap = least;

@@ -408,23 +408,32 @@ impl Edge {
 /// test on the vertices as given (both chosen on the real parts).
 pub fn polygon_distance<T: Real>(edges: &[Edge], p: [T; 2]) -> (T, [T; 2]) {
     let (px, py) = (re(p[0]), re(p[1]));
-    let mut best: Option<(f64, usize, f64)> = None;
-    let mut inside = false;
-    for (i, edge) in edges.iter().enumerate() {
+    // The squared distance from edge `i` (one square root at the end) and the parameter of
+    // its nearest point, and whether a ray from p along +x crosses it.
+    let at = |edge: &Edge| {
         let (a, b, [ex, ey]) = (edge.a, edge.b, edge.e);
         let (wx, wy) = (px - a[0], py - a[1]);
         let t = ((wx * ex + wy * ey) * edge.inv_length2).clamp(0.0, 1.0);
         let (qx, qy) = (wx - t * ex, wy - t * ey);
-        // Squared: one square root at the end.
-        let d = qx * qx + qy * qy;
-        if best.is_none_or(|b| d < b.0) {
-            best = Some((d, i, t));
-        }
-        if (a[1] > py) != (b[1] > py) && px < a[0] + (py - a[1]) * edge.slope_x_per_y {
-            inside = !inside;
-        }
+        // Both tests evaluated, without a branch between them (the slope of an edge along
+        // x is infinite, and the second test then false or NaN, but the first is false).
+        let crosses = ((a[1] > py) != (b[1] > py)) & (px < a[0] + (py - a[1]) * edge.slope_x_per_y);
+        (qx * qx + qy * qy, t, crosses)
+    };
+    let Some(first) = edges.first() else { return (real(f64::INFINITY), [real(0.0), real(0.0)]) };
+    // The first nearest edge (strictly nearer replaces), chosen without branches in the loop:
+    // which edge is nearest and where a ray crosses are data the branch predictor cannot
+    // learn (this function is a fifth of the thick flasher example's run).
+    let (mut d, mut t, mut inside) = at(first);
+    let mut i = 0;
+    for (j, edge) in edges.iter().enumerate().skip(1) {
+        let (dj, tj, crosses) = at(edge);
+        let nearer = dj < d;
+        d = if nearer { dj } else { d };
+        t = if nearer { tj } else { t };
+        i = if nearer { j } else { i };
+        inside ^= crosses;
     }
-    let Some((d, i, t)) = best else { return (real(f64::INFINITY), [real(0.0), real(0.0)]) };
     let d = d.sqrt();
     let Edge { a, e: [ex, ey], inv_length2, .. } = edges[i];
     let (wx, wy) = (p[0] - real(a[0]), p[1] - real(a[1]));

@@ -18,8 +18,7 @@
 //! at the end: a few 3 × 3 products per point instead of a dozen 3 × 26 ones (the pair's
 //! points number 10–60 on a stowed thick flasher).
 
-use super::lanes::{D13, widen};
-use crate::law::JacobianDual as D;
+use super::lanes::{D13, D26 as D, widen};
 use crate::math::skew;
 use crate::state::{BODY_STATE_LEN as B, BodyMotion};
 use nalgebra::{Const, Matrix3, SMatrix, U1, Vector3};

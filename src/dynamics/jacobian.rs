@@ -1,13 +1,17 @@
 //! The exact Jacobian of the bodies' accelerations, by dual numbers, for the implicit path.
 //!
 //! A hinge's wrench depends on the 13 state numbers of its parent and the 13 of its child
-//! only. Seeding those 26 numbers as dual directions ([`crate::law::JacobianDual`]) and evaluating the
-//! same kinematics and law code the right-hand side runs (generic over [`crate::math::Real`])
-//! gives the hinge's contribution to the two bodies' accelerations and its exact derivatives
-//! in one pass. Per body, the rotation of the total torque into body components and the
-//! gyroscopic term `ω × Iω` depend on the body's own attitude and rate; a second pass per
-//! body differentiates those. The cost is one dual evaluation per hinge and per body (26
-//! derivative lanes): linear in bodies plus hinges, with no differencing step to choose.
+//! only. Seeding one body's 13 as dual directions ([`crate::law::JacobianDual`]), the other's
+//! held at their values, and evaluating the same kinematics and law code the right-hand side
+//! runs (generic over [`crate::math::Real`]) gives the hinge's contribution to the two
+//! bodies' accelerations and its exact derivatives in that body's state; a second pass does
+//! the other body. (One pass in 26 lanes gives the same numbers, lane for lane, but a
+//! 26-lane dual is too large to copy in registers: its copies were a quarter of the
+//! 228-panel starshade's run, calls to `memmove`; in two 13-lane passes the held side's
+//! numbers carry no derivative at all.) Per body, the rotation of the total torque into body
+//! components and the gyroscopic term `ω × Iω` depend on the body's own attitude and rate;
+//! one more pass per body differentiates those. The cost is linear in bodies plus hinges,
+//! with no differencing step to choose.
 //!
 //! Laws differentiate through [`crate::law::HingeLaw::wrench_dual`] with their memory
 //! (hysteresis branch, stop contact) held, as the piecewise-smooth response is between
@@ -18,10 +22,9 @@
 
 use super::Dynamics;
 use super::contact_pair::PairSum;
-use super::lanes::{D13, seeded13, widen};
+use super::lanes::{D13, D26 as D, seeded13};
 use super::locks::{Lock, hinge_rows};
 use crate::kinematics::{ChildSide, ParentSide, hinge_kinematics, kinematics_of_sides};
-use crate::law::JacobianDual as D;
 use crate::math::{const_mat_vec, cross, lift, mat_tr_vec, mat_vec, re, real};
 use crate::state::{BODY_STATE_LEN as B, BodyMotion, OMEGA, VEL};
 use nalgebra::{Const, SMatrix, U1, Vector3};
@@ -104,15 +107,31 @@ fn seeded(s: &[f64], first: usize) -> [D; B] {
 /// A body's six acceleration rows (R̈ in N, ω̇ in body components) from a force and torque in N
 /// components: `R̈ = F / m`, `ω̇ = I⁻¹ [b N] τ` with `[b N]` held at `dcm_n_b` (its attitude
 /// derivative is taken per body, on the total torque).
-fn accel_rows(
+fn accel_rows<T: crate::math::Real + std::ops::Mul<f64, Output = T>>(
     bd: &crate::model::Body,
     dcm_n_b: &nalgebra::Matrix3<f64>,
-    force: &Vector3<D>,
-    torque: &Vector3<D>,
-) -> [D; 6] {
+    force: &Vector3<T>,
+    torque: &Vector3<T>,
+) -> [T; 6] {
     let inv_m = 1.0 / bd.mass;
     let alpha = const_mat_vec(&(bd.inertia_inv_in_body * dcm_n_b.transpose()), torque);
     [force.x * inv_m, force.y * inv_m, force.z * inv_m, alpha.x, alpha.y, alpha.z]
+}
+
+/// The blocks of a body's six acceleration rows (R̈ then ω̇) in the 13 lanes of the body
+/// seeded.
+fn block(rows: &[D13; 6]) -> (PoseBlock, TwistBlock) {
+    let mut out = (PoseBlock::zeros(), TwistBlock::zeros());
+    for (r, x) in rows.iter().enumerate() {
+        let Some(g) = &x.eps.0 else { continue };
+        for k in 0..7 {
+            out.0[(r, k)] = g[k];
+        }
+        for k in 0..6 {
+            out.1[(r, k)] = g[7 + k];
+        }
+    }
+    out
 }
 
 /// Splits the lanes of a body's six acceleration rows (R̈ then ω̇) into the blocks of the
@@ -143,34 +162,42 @@ impl ExactJacobian for Dynamics<'_> {
         let motions: Vec<BodyMotion> = (0..nb).map(|i| BodyMotion::from_state(y, i)).collect();
         // Per body: total hinge torque, N components (for the rotation into body components).
         let mut torque_in_n = vec![Vector3::<f64>::zeros(); nb];
-        let mut hinge_blocks = Vec::with_capacity(2 * model.hinges.len());
+        // The blocks of contact and loads, sent after the hinges' (which go as they come).
+        let mut hinge_blocks = Vec::new();
         let t = self.time.get();
         // Each body's motion in its own 13 lanes, once; each hinge's one-body quantities in
-        // those lanes too, moved to the hinge's 26 (parent 0..13, child 13..26) only where
-        // the two bodies meet: half the lanes for half the work (see `ParentSide`).
+        // those lanes too, and the hinge evaluated twice: with the parent's lanes and the
+        // child's values held, then the other way round (see the module documentation).
         let own: Vec<BodyMotion<D13>> =
             (0..nb).map(|i| BodyMotion::<D13>::from_body_state(&seeded13(body(i)))).collect();
+        let held = |x: D13| D13::from_re(x.re);
         for (i, h) in model.hinges.iter().enumerate() {
-            let p = ParentSide::new(h, &own[h.parent]).map(|x| widen(x, 0));
-            let c = ChildSide::new(h, &own[h.child]).map(|x| widen(x, B));
-            let k = kinematics_of_sides(&p, &c, &refs[i]);
-            let Some(mut w) = h.law.wrench_dual(&k.state, &memories[i]) else { return false };
-            if let Some((motor, _)) = self.motor_wrench(i, &k.state, t) {
-                w.force_in_a0 += motor.force_in_a0;
-                w.torque_in_a += motor.torque_in_a;
-            }
-            let f_n = mat_vec(&k.dcm_n_a0, &w.force_in_a0);
-            let tau_n = mat_vec(&k.dcm_n_a, &w.torque_in_a);
-            let on_parent = (f_n, cross(&k.arm_parent_in_n, &f_n) + tau_n);
-            let on_child = (-f_n, -(cross(&k.arm_child_in_n, &f_n) + tau_n));
-            for (b, (force, torque)) in [(h.parent, on_parent), (h.child, on_child)] {
-                torque_in_n[b] += torque.map(re);
-                // R̈ = F / m; ω̇ = I⁻¹ ([b N] τ − ω × Iω), here the τ part with [b N] held
-                // (its attitude derivative is taken per body below, on the total torque).
-                let rows = accel_rows(&model.bodies[b], &motions[b].dcm_n_b, &force, &torque);
-                let [(px, pv), (cx, cv)] = split(&rows);
-                hinge_blocks.push((b, h.parent, px, pv));
-                hinge_blocks.push((b, h.child, cx, cv));
+            let p = ParentSide::new(h, &own[h.parent]);
+            let c = ChildSide::new(h, &own[h.child]);
+            for (pass, (column, p, c)) in
+                [(h.parent, p, c.map(held)), (h.child, p.map(held), c)].into_iter().enumerate()
+            {
+                let k = kinematics_of_sides(&p, &c, &refs[i]);
+                let Some(mut w) = h.law.wrench_dual(&k.state, &memories[i]) else { return false };
+                if let Some((motor, _)) = self.motor_wrench(i, &k.state, t) {
+                    w.force_in_a0 += motor.force_in_a0;
+                    w.torque_in_a += motor.torque_in_a;
+                }
+                let f_n = mat_vec(&k.dcm_n_a0, &w.force_in_a0);
+                let tau_n = mat_vec(&k.dcm_n_a, &w.torque_in_a);
+                let on_parent = (f_n, cross(&k.arm_parent_in_n, &f_n) + tau_n);
+                let on_child = (-f_n, -(cross(&k.arm_child_in_n, &f_n) + tau_n));
+                for (b, (force, torque)) in [(h.parent, on_parent), (h.child, on_child)] {
+                    if pass == 0 {
+                        torque_in_n[b] += torque.map(re);
+                    }
+                    // R̈ = F / m; ω̇ = I⁻¹ ([b N] τ − ω × Iω), here the τ part with [b N]
+                    // held (its attitude derivative is taken per body below, on the total
+                    // torque).
+                    let rows = accel_rows(&model.bodies[b], &motions[b].dcm_n_b, &force, &torque);
+                    let (dx, dv) = block(&rows);
+                    add(b, column, &dx, &dv);
+                }
             }
         }
         // Contact points: the same code as the right-hand side's, in dual numbers, each
@@ -221,22 +248,20 @@ impl ExactJacobian for Dynamics<'_> {
         // External loads (crate::loads): one fixed in its body's frame, or acting off the
         // centre of mass, turns with the body, so its wrench depends on the attitude. The
         // hub's control depends on the hub's attitude and rate (the wheel momenta held).
-        let mut self_block = |b: usize, force: Vector3<D>, torque: Vector3<D>| {
+        let mut self_block = |b: usize, force: Vector3<D13>, torque: Vector3<D13>| {
             torque_in_n[b] += torque.map(re);
             let rows = accel_rows(&model.bodies[b], &motions[b].dcm_n_b, &force, &torque);
-            let [(dx, dv), _] = split(&rows);
+            let (dx, dv) = block(&rows);
             hinge_blocks.push((b, b, dx, dv));
         };
         for load in model.loads.iter().chain(self.commanded.borrow().iter()) {
-            let m = BodyMotion::<D>::from_body_state(&seeded(body(load.body), 0));
-            let (force, torque) = load.wrench(t, &m.dcm_n_b);
+            let (force, torque) = load.wrench(t, &own[load.body].dcm_n_b);
             self_block(load.body, force, torque);
         }
         let wi = crate::state::wheel_index(model);
-        let hub = seeded(body(0), 0);
+        let hub = seeded13(body(0));
         if let Some(tau_b) = self.control_torque(&hub, &y[wi..wi + model.wheel_count()]) {
-            let m = BodyMotion::<D>::from_body_state(&hub);
-            self_block(0, Vector3::zeros(), m.dcm_n_b * tau_b);
+            self_block(0, Vector3::zeros(), own[0].dcm_n_b * tau_b);
         }
         for (i, j, dx, dv) in &hinge_blocks {
             add(*i, *j, dx, dv);
@@ -248,8 +273,7 @@ impl ExactJacobian for Dynamics<'_> {
             let tau_b = mat_tr_vec(&own[i].dcm_n_b, &torque_in_n[i].map(real::<D13>));
             let i_omega = const_mat_vec(&bd.inertia_in_body, &omega_b);
             let alpha = const_mat_vec(&bd.inertia_inv_in_body, &(tau_b - cross(&omega_b, &i_omega)));
-            let rows = [alpha.x, alpha.y, alpha.z].map(|x| widen(x, 0));
-            let [(dx, dv), _] = split(&[D::from_re(0.0), D::from_re(0.0), D::from_re(0.0), rows[0], rows[1], rows[2]]);
+            let (dx, dv) = block(&[D13::from_re(0.0), D13::from_re(0.0), D13::from_re(0.0), alpha.x, alpha.y, alpha.z]);
             add(i, i, &dx, &dv);
         }
         true

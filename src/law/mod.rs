@@ -19,8 +19,9 @@ use nalgebra::{Matrix3, Vector3};
 use std::fmt::Debug;
 
 /// The dual numbers the implicit path differentiates a hinge with: derivatives with respect
-/// to the 13 state numbers of its parent and the 13 of its child (see [`crate::state`]).
-pub type JacobianDual = num_dual::DualSVec64<26>;
+/// to one body's 13 state numbers (see [`crate::state`]); the Jacobian evaluates a hinge
+/// once for its parent's and once for its child's (`crate::dynamics::jacobian`).
+pub type JacobianDual = num_dual::DualSVec64<13>;
 
 /// Relative state of one hinge (docs/model.md §2), in f64 or, for the Jacobian, dual numbers.
 #[derive(Clone, Copy, Debug)]

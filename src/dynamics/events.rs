@@ -65,6 +65,13 @@ impl Dynamics<'_> {
         self.model.hinges[i].law.bookkeeping_event(own)
     }
 
+    /// Whether law event `index` switches a slip element's mode
+    /// ([`crate::law::HingeLaw::slip_event`]).
+    pub fn slip_event(&self, index: usize) -> bool {
+        let (i, own) = self.event_owner(index);
+        self.model.hinges[i].law.slip_event(own)
+    }
+
     /// Applies event function `index`'s change at state `y`, time `t`.
     pub fn apply_event(&self, index: usize, t: f64, y: &[f64]) -> LawEvent {
         let (i, own) = self.event_owner(index);

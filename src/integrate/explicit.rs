@@ -11,7 +11,8 @@
 //! coefficients are theirs. Order and dense-output accuracy are tested in this module.
 
 use super::step::{
-    Control, DenseKind, Limits, Method, OdeError, OdeSystem, Stats, Step, announce_start, before_end, hermite,
+    Control, DenseKind, Limits, Method, OdeError, OdeSystem, Stats, Step, announce_start, before_end, cut_short_lands,
+    hermite,
 };
 use super::tableau::{DOP853, DOPRI5, DP5_D, DP8_BHH, DP8_D, RK4, Tableau};
 
@@ -250,7 +251,8 @@ fn adaptive<S: OdeSystem + ?Sized, E>(
         // a sliver (a stepped run's pieces end at every such stop: the three-panel case at
         // 10 ms pieces took 19 % more steps than a free run). The last of them lands.
         let steps_left = if h > 0.0 && !forced { ((stop - t) / (1.1 * h)).ceil() } else { f64::INFINITY };
-        if t + 1.01 * h - stop > 0.0 || steps_left <= 1.0 {
+        let reaches = if forced { cut_short_lands(t, h, stop) } else { t + 1.01 * h - stop > 0.0 };
+        if reaches || steps_left <= 1.0 {
             h = stop - t;
             landing = true;
             last = stop == tf;

@@ -27,7 +27,8 @@
 use super::anderson::{Anderson, SLOW};
 use super::newton::NewtonMatrix;
 use super::step::{
-    Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, first_step_rule, norm,
+    Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, cut_short_lands,
+    first_step_rule, norm,
 };
 
 /// The method's three parameters from ρ∞ (Jansen, Whiting & Hulbert, eq. 21).
@@ -188,7 +189,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let (mut rejected_at, mut e_rejected, mut h_rejected) = (None, 0.0, 0.0);
     loop {
         let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
-        let landing = t + 1.01 * h >= stop;
+        let landing = if forced { cut_short_lands(t, h, stop) } else { t + 1.01 * h >= stop };
         if landing {
             h = stop - t;
         }

@@ -8,7 +8,8 @@
 use super::anderson::{Anderson, SLOW};
 use super::newton::NewtonMatrix;
 use super::step::{
-    Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, first_step_rule, norm,
+    Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, cut_short_lands,
+    first_step_rule, norm,
 };
 
 const GAMMA: f64 = 0.25;
@@ -96,7 +97,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     loop {
         // The step lands on the end, or on the next break of the right-hand side.
         let stop = system.next_break(t).filter(|&b| before_end(b, tf)).unwrap_or(tf);
-        let landing = t + 1.01 * h >= stop;
+        let landing = if forced { cut_short_lands(t, h, stop) } else { t + 1.01 * h >= stop };
         if landing {
             h = stop - t;
         }

@@ -525,6 +525,11 @@ impl HingeLaw for DirectionalLaw {
         )
     }
 
+    fn slip_event(&self, k: usize) -> bool {
+        let (i, slot) = (k / SLOTS, k % SLOTS);
+        matches!((&self.directions[i].response, slot), (Response::TapeSpring(_), 0 | 1))
+    }
+
     fn apply_event(&self, k: usize, state: &HingeState, memory: &mut LawMemory) -> (EventKind, String) {
         let (q, _, _) = self.coordinates(state);
         let (i, slot) = (k / SLOTS, k % SLOTS);

@@ -198,6 +198,14 @@ pub trait HingeLaw: Debug + Send + Sync + CloneLaw {
         false
     }
 
+    /// Whether event `k` switches a slip element's mode (a tape spring's reversal or slide),
+    /// where the force is continuous across the switch: a run may take such an event at the
+    /// end of the step after it rather than at its very start (see `crate::simulate`'s event
+    /// handling, where it would otherwise chatter at one instant).
+    fn slip_event(&self, _k: usize) -> bool {
+        false
+    }
+
     /// Applies event `k`, just crossed at `state`, to the memory; says what happened.
     fn apply_event(&self, _k: usize, _state: &HingeState, _memory: &mut LawMemory) -> (EventKind, String) {
         (EventKind::Branch, String::new())

@@ -10,6 +10,7 @@
 //! events the response is smooth.
 
 pub mod directional;
+pub mod responses;
 pub mod table;
 
 use crate::math::{

@@ -50,6 +50,18 @@ impl Frame {
     pub fn in_frame_of(&self, fb: &Frame) -> (Mat3, Vec3) {
         (fb.dcm_n_b.transpose() * self.dcm_n_b, fb.dcm_n_b.transpose() * (self.position_in_n - fb.position_in_n))
     }
+
+    /// The point fixed in this body at `p_in_body` (m, body frame), in body B's frame (`fb`),
+    /// m.
+    fn point_in_frame_of(&self, p_in_body: &Vec3, fb: &Frame) -> Vec3 {
+        fb.dcm_n_b.transpose() * (self.position_in_n + self.dcm_n_b * p_in_body - fb.position_in_n)
+    }
+
+    /// The velocity of this body's material point at `point_in_n` (m, N frame) against body
+    /// B's (`fb`) material point there, m/s, B frame.
+    fn velocity_against(&self, fb: &Frame, point_in_n: &Vec3) -> Vec3 {
+        fb.dcm_n_b.transpose() * (self.velocity_at(point_in_n) - fb.velocity_at(point_in_n))
+    }
 }
 
 impl<T: Real> Frame<T> {
@@ -405,8 +417,7 @@ impl ContactSet {
         fb: &Frame,
         impact_speed: Option<f64>,
     ) -> Option<PointForce<f64>> {
-        let point_in_b =
-            fb.dcm_n_b.transpose() * (fa.position_in_n + fa.dcm_n_b * sample.point_in_body - fb.position_in_n);
+        let point_in_b = fa.point_in_frame_of(&sample.point_in_body, fb);
         self.point_force_at(sample, solid, fa, fb, &point_in_b, f64::INFINITY, || impact_speed)
     }
 
@@ -432,7 +443,7 @@ impl ContactSet {
         }
         let impact_speed = impact_speed();
         let point = fb.position_in_n + fb.dcm_n_b * point_in_b;
-        let velocity_in_b = fb.dcm_n_b.transpose() * (fa.velocity_at(&point) - fb.velocity_at(&point));
+        let velocity_in_b = fa.velocity_against(fb, &point);
         let f = self.law_at(depth, normal_in_b, &velocity_in_b, impact_speed);
         Some(PointForce {
             point_in_n: point,
@@ -493,8 +504,7 @@ impl ContactSet {
     /// the sample's sphere and the solid). NaN for a key that names no sample.
     pub fn depth(&self, key: &PointKey, fa: &Frame, fb: &Frame) -> f64 {
         let Some((sample, solid)) = self.sample_and_solid(key) else { return f64::NAN };
-        let point_in_b =
-            fb.dcm_n_b.transpose() * (fa.position_in_n + fa.dcm_n_b * sample.point_in_body - fb.position_in_n);
+        let point_in_b = fa.point_in_frame_of(&sample.point_in_body, fb);
         sample.radius - solid.signed_distance(&point_in_b).0
     }
 
@@ -504,11 +514,10 @@ impl ContactSet {
     /// the law takes it. NaN for a key that names no sample.
     pub fn approach_rate(&self, key: &PointKey, fa: &Frame, fb: &Frame) -> f64 {
         let Some((sample, solid)) = self.sample_and_solid(key) else { return f64::NAN };
-        let point = fa.position_in_n + fa.dcm_n_b * sample.point_in_body;
-        let point_in_b = fb.dcm_n_b.transpose() * (point - fb.position_in_n);
+        let point_in_b = fa.point_in_frame_of(&sample.point_in_body, fb);
         let normal_in_b = solid.signed_distance(&point_in_b).1;
-        let velocity_in_b = fb.dcm_n_b.transpose() * (fa.velocity_at(&point) - fb.velocity_at(&point));
-        -normal_in_b.dot(&velocity_in_b)
+        let point = fa.position_in_n + fa.dcm_n_b * sample.point_in_body;
+        -normal_in_b.dot(&fa.velocity_against(fb, &point))
     }
 
     /// The sample `key` names and the solid it probes.

@@ -41,10 +41,11 @@ pub type BlockSink<'s> = dyn FnMut(usize, usize, &PoseBlock, &TwistBlock) + 's;
 
 /// A system that can give the exact Jacobian of its accelerations in body blocks.
 pub trait ExactJacobian {
-    /// Sends every block of `∂(R̈, ω̇)/∂(x, v)` at state `y` to `add`. Returns false (having
-    /// sent nothing) when it cannot; the caller then differences. With locked directions
-    /// these are the accelerations before the constraint forces (see
-    /// [`Self::constraint_jacobian`]).
+    /// Sends every block of `∂(R̈, ω̇)/∂(x, v)` at state `y` to `add`. Returns false when it
+    /// cannot (a hinge law without a dual form), having sent the blocks of the hinges before
+    /// that one: the caller discards what it received and differences (the Newton matrix
+    /// overwrites every block it differences). With locked directions these are the
+    /// accelerations before the constraint forces (see [`Self::constraint_jacobian`]).
     fn acceleration_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool;
 
     /// The hinges with locked directions, as (parent body, child body, number of locked

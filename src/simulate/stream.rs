@@ -274,8 +274,8 @@ impl StreamOut<'_, '_, '_, '_> {
     /// still have dipped below zero and back inside the step (a tape spring's brief slide in
     /// a vibration, missed at one tolerance and found at the next, changes the rest of the
     /// run): where it is nearer zero at either end than it changes over a step, it is also
-    /// sampled at three points inside the step.
-    fn locate_event(&mut self, step: &Step<'_>) -> Option<(usize, f64)> {
+    /// sampled at three points inside the step. Event `skip` is not looked for.
+    fn locate_event(&mut self, step: &Step<'_>, skip: Option<usize>) -> Option<(usize, f64)> {
         if self.s.g_prev.is_empty() || step.t == step.t_prev {
             return None;
         }
@@ -284,6 +284,9 @@ impl StreamOut<'_, '_, '_, '_> {
         let mut y = Vec::new();
         let (t0, h) = (step.t_prev, step.t - step.t_prev);
         for k in 0..self.s.g_prev.len() {
+            if skip == Some(k) {
+                continue;
+            }
             let (g0, g1) = (self.s.g_prev[k], self.s.g_end[k]);
             if g0.is_nan() || g0 < 0.0 {
                 continue;
@@ -356,6 +359,14 @@ impl StreamOut<'_, '_, '_, '_> {
         Ok(())
     }
 
+    /// Applies law event `k` at the start of `step` and restarts the integration there.
+    fn apply_at_start(&mut self, k: usize, step: &Step<'_>) -> Result<Control, SimError> {
+        let mut y = vec![0.0; step.y.len()];
+        step.interpolate(step.t_prev, &mut y);
+        self.apply_event(k, step.t_prev, &y)?;
+        Ok(Control::Restart { t: step.t_prev, y })
+    }
+
     /// Handles an accepted step: outputs, law events (which restart the integration at the
     /// event), angle references and checks.
     ///
@@ -379,7 +390,7 @@ impl StreamOut<'_, '_, '_, '_> {
         let event = match pending {
             // The retaken step ends at the located root (to round-off): the event happens here.
             Some((k, t)) if (step.t - t).abs() <= tiny => Some(k),
-            _ => match self.locate_event(step) {
+            _ => match self.locate_event(step, None) {
                 // A table's point crossed at the step's start right after events at that very
                 // instant (the coordinate turns on the point, and its two crossings would
                 // alternate there without end): the step goes across it, and the piece is
@@ -401,22 +412,31 @@ impl StreamOut<'_, '_, '_, '_> {
                 // rtol 4e-3 to 4e-5 chattered so). The force is continuous across the switch
                 // (the slip force is zero, or the gap, at either side of it), so the step is
                 // taken in the mode it started in and the switch made at its end, if its
-                // event function is still below zero there.
+                // event function is still below zero there. Another event inside the step
+                // is still found (the step is cut short to end there; the switch, due
+                // still, is found again after it).
                 Some((k, t))
                     if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0)
                         && self.s.same_instant.0 == step.t_prev
                         && self.s.same_instant.1 >= 2
                         && self.dynamics.slip_event(k) =>
                 {
-                    (self.s.g_end[k] < 0.0).then_some(k)
+                    match self.locate_event(step, Some(k)) {
+                        Some((other, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
+                            return self.apply_at_start(other, step);
+                        }
+                        Some((other, t)) if t < step.t - tiny => {
+                            self.s.pending = Some((other, t));
+                            return Ok(Control::Truncate { t });
+                        }
+                        Some((other, _)) => Some(other),
+                        None => (self.s.g_end[k] < 0.0).then_some(k),
+                    }
                 }
                 // At the very start of the step (a round-off past the previous step's end):
                 // apply it there rather than take a step too short for the integrator.
                 Some((k, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
-                    let mut y = vec![0.0; step.y.len()];
-                    step.interpolate(step.t_prev, &mut y);
-                    self.apply_event(k, step.t_prev, &y)?;
-                    return Ok(Control::Restart { t: step.t_prev, y });
+                    return self.apply_at_start(k, step);
                 }
                 Some((k, t)) if t < step.t - tiny => {
                     self.s.pending = Some((k, t));

@@ -387,24 +387,15 @@ impl StreamOut<'_, '_, '_, '_> {
             return Ok(Control::Restart { t: step.t_prev, y });
         }
         let pending = self.s.pending.take();
+        // Within round-off of the step's start (1e-10 relative), right after events at that
+        // very instant.
+        let at_start = |t: f64| t - step.t_prev <= 1e-10 * step.t.abs().max(1.0);
+        let repeated = self.s.same_instant.0 == step.t_prev && self.s.same_instant.1 >= 2;
         let event = match pending {
             // The retaken step ends at the located root (to round-off): the event happens here.
             Some((k, t)) if (step.t - t).abs() <= tiny => Some(k),
-            _ => match self.locate_event(step, None) {
-                // A table's point crossed at the step's start right after events at that very
-                // instant (the coordinate turns on the point, and its two crossings would
-                // alternate there without end): the step goes across it, and the piece is
-                // brought up to date at the accepted state (`HingeLaw::sync_memory`; the force
-                // is continuous across the point).
-                Some((k, t))
-                    if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0)
-                        && self.s.same_instant.0 == step.t_prev
-                        && self.s.same_instant.1 >= 2
-                        && self.dynamics.bookkeeping_event(k) =>
-                {
-                    self.s.resync_events = true;
-                    None
-                }
+            _ => {
+                let mut found = self.locate_event(step, None);
                 // A slip element's mode switched back at the step's start right after
                 // switches at that very instant: the two modes' motions each cross the
                 // other's switching surface at once (a latched tape spring's rate at zero to
@@ -412,39 +403,40 @@ impl StreamOut<'_, '_, '_, '_> {
                 // rtol 4e-3 to 4e-5 chattered so). The force is continuous across the switch
                 // (the slip force is zero, or the gap, at either side of it), so the step is
                 // taken in the mode it started in and the switch made at its end, if its
-                // event function is still below zero there. Another event inside the step
-                // is still found (the step is cut short to end there; the switch, due
-                // still, is found again after it).
-                Some((k, t))
-                    if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0)
-                        && self.s.same_instant.0 == step.t_prev
-                        && self.s.same_instant.1 >= 2
-                        && self.dynamics.slip_event(k) =>
+                // event function is still below zero there; any other event in the step is
+                // looked for without it and handled as usual (the switch, due still, is
+                // found again after it).
+                let mut deferred = None;
+                if let Some((k, t)) = found
+                    && at_start(t)
+                    && repeated
+                    && self.dynamics.slip_event(k)
                 {
-                    match self.locate_event(step, Some(k)) {
-                        Some((other, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
-                            return self.apply_at_start(other, step);
-                        }
-                        Some((other, t)) if t < step.t - tiny => {
-                            self.s.pending = Some((other, t));
-                            return Ok(Control::Truncate { t });
-                        }
-                        Some((other, _)) => Some(other),
-                        None => (self.s.g_end[k] < 0.0).then_some(k),
+                    deferred = Some(k);
+                    found = self.locate_event(step, Some(k));
+                }
+                match found {
+                    // A table's point crossed at the step's start right after events at that
+                    // very instant (the coordinate turns on the point, and its two crossings
+                    // would alternate there without end): the step goes across it, and the
+                    // piece is brought up to date at the accepted state
+                    // (`HingeLaw::sync_memory`; the force is continuous across the point).
+                    Some((k, t)) if at_start(t) && repeated && self.dynamics.bookkeeping_event(k) => {
+                        self.s.resync_events = true;
+                        None
                     }
+                    // At the very start of the step (a round-off past the previous step's
+                    // end): apply it there rather than take a step too short for the
+                    // integrator.
+                    Some((k, t)) if at_start(t) => return self.apply_at_start(k, step),
+                    Some((k, t)) if t < step.t - tiny => {
+                        self.s.pending = Some((k, t));
+                        return Ok(Control::Truncate { t });
+                    }
+                    Some((k, _)) => Some(k),
+                    None => deferred.filter(|&k| self.s.g_end[k] < 0.0),
                 }
-                // At the very start of the step (a round-off past the previous step's end):
-                // apply it there rather than take a step too short for the integrator.
-                Some((k, t)) if t - step.t_prev <= 1e-10 * step.t.abs().max(1.0) => {
-                    return self.apply_at_start(k, step);
-                }
-                Some((k, t)) if t < step.t - tiny => {
-                    self.s.pending = Some((k, t));
-                    return Ok(Control::Truncate { t });
-                }
-                Some((k, _)) => Some(k),
-                None => None,
-            },
+            }
         };
         if let Some(tr) = self.s.release_at
             && step.t > tr + tiny

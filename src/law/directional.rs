@@ -453,9 +453,9 @@ impl HingeLaw for DirectionalLaw {
                     m.in_contact = true;
                     if stop.lock {
                         m.latched = true;
-                        (EventKind::Latch, format!("{name}: latched at {:.6}", stop.at))
+                        (EventKind::Latch, format!("{name}: latched at {:.6}", stop.end_at(q[i])))
                     } else {
-                        (EventKind::Contact, format!("{name}: hits the stop at {:.6}", stop.at))
+                        (EventKind::Contact, format!("{name}: hits the stop at {:.6}", stop.end_at(q[i])))
                     }
                 }
             }
@@ -565,6 +565,25 @@ mod tests {
                 let lowest = g.iter().fold(f64::INFINITY, |a, &b| a.min(b));
                 assert!(lowest >= -1e-9, "direction {direction}, {offset:e}: an event function at {lowest:e}");
             }
+        }
+    }
+
+    /// A band stop's events name the end that is met or left (the band's middle, `at`, is no
+    /// place the coordinate reaches there: the 6 × 3 thick flasher's membranes printed "hits
+    /// the stop at 0.000000" and "leaves the stop at -0.050000" for one end).
+    #[test]
+    fn band_stop_events_name_the_end_met() {
+        let band = Stop { at: 0.01, free_above: true, band: 0.05, stiffness: 1e4, damping: 3.0, lock: false };
+        let mut dirs: [Direction; 6] = std::array::from_fn(|_| Direction::linear(100.0));
+        dirs[1] = Direction { stop: Some(band), ..Direction::linear(100.0) };
+        let law = DirectionalLaw { angles: Angles::Euler, directions: dirs };
+        for (y, end) in [(-0.04, "-0.040000"), (0.06, "0.060000")] {
+            let state = HingeState::at(Vec3::new(0.0, y, 0.0), Euler321::default());
+            let mut m = law.initial_memory(&HingeState::at(Vec3::zeros(), Euler321::default()));
+            let (kind, hit) = law.apply_event(SLOTS + 2, &state, &mut m);
+            assert!(matches!(kind, EventKind::Contact) && hit == format!("y: hits the stop at {end}"), "{hit}");
+            let (_, left) = law.apply_event(SLOTS + 2, &state, &mut m);
+            assert_eq!(left, format!("y: leaves the stop at {end}"));
         }
     }
 

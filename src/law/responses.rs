@@ -130,4 +130,10 @@ impl Stop {
     pub fn extension(&self, q: f64) -> f64 {
         if self.band > 0.0 { q - self.at - self.band.copysign(q - self.at) } else { q - self.at }
     }
+
+    /// The end of the stop that `q` meets or leaves (m or rad): `at`, or for a band the
+    /// nearer of `at ± band` (what the event messages name).
+    pub fn end_at(&self, q: f64) -> f64 {
+        if self.band > 0.0 { self.at + self.band.copysign(q - self.at) } else { self.at }
+    }
 }

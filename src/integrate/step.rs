@@ -277,8 +277,10 @@ pub struct Step<'a> {
 }
 
 impl<'a> Step<'a> {
-    /// A step whose dense output is the cubic Hermite with terms `cont` (Hairer's rcont1..4:
-    /// y_prev, y − y_prev, h f_prev − (y − y_prev), (y − y_prev) − h f − that).
+    /// A step whose dense output is the cubic `c0 + θ (c1 + (1 − θ)(c2 + θ c3))` with terms
+    /// `cont` = [c0, c1, c2, c3], θ the fraction of the step: for a cubic Hermite (RK4,
+    /// generalized-α) Hairer's rcont1..4, y_prev, y − y_prev, h f_prev − (y − y_prev),
+    /// (y − y_prev) − h f − that; SDIRK4 writes its stage-based cubic in the same form.
     pub(crate) fn hermite(t_prev: f64, t: f64, y: &'a [f64], cont: &'a [Vec<f64>]) -> Self {
         Step { t_prev, t, y, kind: DenseKind::Hermite, cont }
     }

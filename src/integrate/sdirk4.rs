@@ -27,8 +27,9 @@ const B_HAT: [f64; 5] = [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 
 /// Dense output of order 3 from the stage increments `Z_i = Y_i − y`:
 /// `y(t + θh) = y + Σ_k θ^k Σ_i DENSE[k−1][i] Z_i`, k = 1, 2, 3. It is `y + h Σ_i b_i(θ) k_i`
 /// with weights `b_i(θ)` cubic in θ meeting the order conditions to order 3 at every θ
-/// (Σ b_i = θ, Σ b_i c_i = θ²/2, Σ b_i c_i² = θ³/3, Σ b_i (Ac)_i = θ³/6; Hairer & Wanner,
-/// *Solving ODEs II*, IV.6, dense output of SDIRK methods) and `b_i(1) = b_i`, written in the
+/// (Σ b_i = θ, Σ b_i c_i = θ²/2, Σ b_i c_i² = θ³/3, Σ b_i (Ac)_i = θ³/6: the continuous
+/// Runge–Kutta conditions of Hairer, Nørsett & Wanner I, II.6, applied to the SDIRK4 of Hairer
+/// & Wanner II, IV.6) and `b_i(1) = b_i`, written in the
 /// stage increments through `h k = A⁻¹ Z` (the least-norm such coefficients, found once with
 /// numpy; `dense_output_meets_the_order_conditions` checks them against the tableau). Unlike a
 /// cubic Hermite through `f(y)` at both ends, it never multiplies a stiff derivative by h:
@@ -43,7 +44,8 @@ const DENSE: [[f64; 5]; 3] = [
 ];
 
 /// Integrates `system` from `t0` to `tf` with SDIRK4, calling `on_step` after every
-/// accepted step with a cubic Hermite dense output (as [`super::integrate`]).
+/// accepted step with its dense output (the stage-based cubic `DENSE`; as
+/// [`super::integrate`]).
 #[allow(clippy::too_many_arguments)]
 pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     system: &S,

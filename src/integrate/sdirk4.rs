@@ -419,31 +419,18 @@ mod tests {
     /// 1e-3 of cos t (2.3e-4: the tolerance's).
     #[test]
     fn dense_output_between_long_steps_follows_the_stiff_manifold() {
-        let sys = TwoScales;
-        let mut newton = DenseNewton::new(&sys, 4);
         let (mut worst_rate, mut worst_soft, mut longest) = (0.0f64, 0.0f64, 0.0f64);
         let mut out = vec![0.0; 4];
-        integrate_sdirk4(
-            &sys,
-            &mut newton,
-            1e-4,
-            1e-4,
-            ErrorNorm::State,
-            Limits::default(),
-            0.0,
-            10.0,
-            &[1.0, 0.0, 1e-3, 0.0],
-            |s: &Step<'_>| -> Result<Control, ()> {
-                longest = longest.max(s.t - s.t_prev);
-                for f in [0.25, 0.5, 0.75] {
-                    let t = s.t_prev + f * (s.t - s.t_prev);
-                    s.interpolate(t, &mut out);
-                    worst_rate = worst_rate.max((out[3] - 1e-3 * out[1]).abs());
-                    worst_soft = worst_soft.max((out[0] - t.cos()).abs());
-                }
-                Ok(Control::Continue)
-            },
-        )
+        two_scales(1e-4, 1e-4, Limits::default(), |s: &Step<'_>| -> Result<Control, ()> {
+            longest = longest.max(s.t - s.t_prev);
+            for f in [0.25, 0.5, 0.75] {
+                let t = s.t_prev + f * (s.t - s.t_prev);
+                s.interpolate(t, &mut out);
+                worst_rate = worst_rate.max((out[3] - 1e-3 * out[1]).abs());
+                worst_soft = worst_soft.max((out[0] - t.cos()).abs());
+            }
+            Ok(Control::Continue)
+        })
         .unwrap();
         assert!(longest > 100.0 * std::f64::consts::TAU / 1e4, "steps up to {longest:e} s");
         assert!(worst_rate < 1e-6, "stiff rate off its manifold by {worst_rate:e} between steps");
@@ -464,26 +451,36 @@ mod tests {
         }
     }
 
-    #[test]
-    fn stiff_problem_takes_accuracy_limited_steps() {
+    /// SDIRK4 (dense Newton) on [`TwoScales`] from x1 = 1, x2 = 1e-3 at rest over 10 s.
+    fn two_scales(
+        rtol: f64,
+        atol: f64,
+        limits: Limits,
+        on_step: impl FnMut(&Step<'_>) -> Result<Control, ()>,
+    ) -> Result<Stats, OdeError<()>> {
         let sys = TwoScales;
         let mut newton = DenseNewton::new(&sys, 4);
-        let mut end = vec![];
-        let stats = integrate_sdirk4(
+        integrate_sdirk4(
             &sys,
             &mut newton,
-            1e-8,
-            1e-10,
+            rtol,
+            atol,
             ErrorNorm::State,
-            Limits::default(),
+            limits,
             0.0,
             10.0,
             &[1.0, 0.0, 1e-3, 0.0],
-            |s: &Step<'_>| -> Result<Control, ()> {
-                end = s.y.to_vec();
-                Ok(Control::Continue)
-            },
+            on_step,
         )
+    }
+
+    #[test]
+    fn stiff_problem_takes_accuracy_limited_steps() {
+        let mut end = vec![];
+        let stats = two_scales(1e-8, 1e-10, Limits::default(), |s: &Step<'_>| -> Result<Control, ()> {
+            end = s.y.to_vec();
+            Ok(Control::Continue)
+        })
         .unwrap();
         let exact = 10f64.cos();
         assert!((end[0] - exact).abs() < 1e-6, "x1(10) = {} vs {exact}", end[0]);

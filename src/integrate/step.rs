@@ -280,8 +280,9 @@ impl<'a> Step<'a> {
     /// A step whose dense output is the cubic `c0 + θ (c1 + (1 − θ)(c2 + θ c3))` with terms
     /// `cont` = [c0, c1, c2, c3], θ the fraction of the step: for a cubic Hermite (RK4,
     /// generalized-α) Hairer's rcont1..4, y_prev, y − y_prev, h f_prev − (y − y_prev),
-    /// (y − y_prev) − h f − that (generalized-α's rates: c2 = c3 = 0, the straight line);
-    /// SDIRK4 writes its stage-based cubic in the same form.
+    /// (y − y_prev) − h f − that; generalized-α its quadratic through three steps' ends
+    /// (c2 = −κ, c3 = 0) or, for the rates on a first step, the straight line (c2 = c3 = 0);
+    /// SDIRK4 its stage-based cubic.
     pub(crate) fn hermite(t_prev: f64, t: f64, y: &'a [f64], cont: &'a [Vec<f64>]) -> Self {
         Step { t_prev, t, y, kind: DenseKind::Hermite, cont }
     }

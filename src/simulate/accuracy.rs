@@ -24,7 +24,8 @@
 //! far within the tolerance is loosened (`loosen`). A run that fails (a loose
 //! tolerance can make a hysteresis law's events chatter) is made again at a tenth of its
 //! tolerance while runs are left. A tolerance not reached within [`MAX_RUNS`] runs or at
-//! [`TIGHTEST`] stops with what was estimated.
+//! [`TIGHTEST`] stops with what was estimated, and so, at once, does a motion whose
+//! estimates do not fall as its candidates tighten ([`stagnates`]).
 
 use super::pace::ProgressFn;
 use super::report::{PositionAccuracy, RunReport, SimError};
@@ -238,6 +239,17 @@ pub fn simulate_to_position(
                 if floor { format!(", {TIGHTEST:e} being the tightest a run is given") } else { String::new() }
             )));
         }
+        // Differences that do not fall as the tolerance tightens: no tighter run will do.
+        if let Some(prev) = last
+            && stagnates(prev, (candidate.tolerance, estimated))
+        {
+            return Err(SimError::Physics(stagnation_refusal(
+                tolerance,
+                prev,
+                (candidate.tolerance, estimated),
+                &runs,
+            )));
+        }
         // The tolerance that would give 2/3 of the one asked, by the power law.
         // The power law's exponent as the last two candidates show it, where they show one
         // (a structure whose errors grow with its motion, or auto changing methods, departs
@@ -246,7 +258,7 @@ pub fn simulate_to_position(
             Some((t, e)) if t > candidate.tolerance && e > estimated => {
                 order_between((t, e), (candidate.tolerance, estimated))
             }
-            Some(_) => 0.4,
+            Some(_) => LEAST_ORDER,
             None => TOLERANCE_ORDER,
         };
         last = Some((candidate.tolerance, estimated));
@@ -261,6 +273,48 @@ pub fn simulate_to_position(
     }
 }
 
+/// The least exponent of the power law the aim assumes (the error as `τ^q`), whatever two
+/// candidates show.
+pub const LEAST_ORDER: f64 = 0.4;
+
+/// [`stagnates`] judges two rejected candidates at least this many times apart in tolerance.
+pub const STAGNATION_TIGHTENING: f64 = 100.0;
+
+/// [`stagnates`]: an estimated error that fell by less than this factor over
+/// [`STAGNATION_TIGHTENING`] does not follow the tolerance; the power law at
+/// [`LEAST_ORDER`] has it fall 6.3 times over 100, at 2/3 21.5 times.
+pub const STAGNATION_FALL: f64 = 2.0;
+
+/// Whether two rejected candidates, each as (tolerance, estimated error m), the first the
+/// looser, show errors that do not fall with the tolerance ([`STAGNATION_TIGHTENING`],
+/// [`STAGNATION_FALL`]). Measured where it happens: the thick flasher example (impacts as
+/// its sheet reaches flat) run under SDIRK4 at rtol 1e-6, 1e-7 and 1e-8 is 3.5e-5, 1.1e-3 and
+/// 3.4e-5 m off DOP853 at 1e-11, all at t = 1.27–1.29 s and all within 1e-5 m before
+/// t = 0.9 s: whether a panel's edge grazes its neighbour or misses it there depends on the
+/// integration's last digits, and a position tolerance of 1e-6 of its size ran 6 runs and 29
+/// minutes down to rtol 1e-12 to be refused with 1.2e-3 m.
+pub fn stagnates((loose, e_loose): (f64, f64), (tight, e_tight): (f64, f64)) -> bool {
+    loose >= STAGNATION_TIGHTENING * tight && e_tight * STAGNATION_FALL > e_loose
+}
+
+/// The refusal for errors that do not fall with the tolerance: the two candidates, each as
+/// (tolerance, estimated error m), and the runs made (tolerance, wall s).
+fn stagnation_refusal(
+    tolerance: f64,
+    (loose, e_loose): (f64, f64),
+    (tight, e_tight): (f64, f64),
+    runs: &[(f64, f64)],
+) -> String {
+    format!(
+        "run.position_tolerance = {tolerance:e} m not reached: the bodies' positions are estimated {e_loose:.2e} m off at rtol = atol = {loose:.1e} and {e_tight:.2e} m at {tight:.1e}, {:.0} times tighter, where a run's error falls with its tolerance by {:.0} times or more: this motion depends on the integration's smallest differences (an impact that grazes or misses, a motion that amplifies what it is given), so no tighter run would reach it; {} runs (rtol = atol {}); give a looser tolerance than their {:.1e} m, or set run.rtol and run.atol yourself",
+        loose / tight,
+        (loose / tight).powf(LEAST_ORDER),
+        runs.len(),
+        runs.iter().map(|r| format!("{:.1e}", r.0)).collect::<Vec<_>>().join(", "),
+        e_loose.max(e_tight)
+    )
+}
+
 /// The factor to move a run's tolerance by so that its error, estimated `estimated` (m),
 /// becomes 2/3 of `tolerance` (m), if the error goes as the tolerance to the power `order`.
 fn aim_factor(tolerance: f64, estimated: f64, order: f64) -> f64 {
@@ -268,9 +322,9 @@ fn aim_factor(tolerance: f64, estimated: f64, order: f64) -> f64 {
 }
 
 /// The power law's exponent two runs show, each as (tolerance, estimated error m), the
-/// first the looser; kept within [0.4, 2].
+/// first the looser; kept within [[`LEAST_ORDER`], 2].
 fn order_between((loose, e_loose): (f64, f64), (tight, e_tight): (f64, f64)) -> f64 {
-    ((e_loose / e_tight.max(f64::MIN_POSITIVE)).ln() / (loose / tight).ln()).clamp(0.4, 2.0)
+    ((e_loose / e_tight.max(f64::MIN_POSITIVE)).ln() / (loose / tight).ln()).clamp(LEAST_ORDER, 2.0)
 }
 
 /// A run whose error is estimated within the position tolerance.
@@ -372,6 +426,36 @@ mod tests {
         for (ta, r) in [(1e-4, 4.0), (1e-6, 10.0), (3e-3, 1.7)] {
             let (ea, eb) = (c * f64::powf(ta, TOLERANCE_ORDER), c * f64::powf(ta / r, TOLERANCE_ORDER));
             assert!((coarser_error(ea - eb, r) / ea - 1.0).abs() < 1e-12);
+        }
+    }
+
+    /// Errors that fall with the tolerance do not stagnate, down to the aim's least
+    /// exponent (0.4) over the least tightening that is looked at; errors that fall by less
+    /// than half over 100 times do, as the thick flasher's did; and the refusal names both
+    /// candidates, the runs and a tolerance to give.
+    #[test]
+    fn errors_that_do_not_fall_with_the_tolerance_are_refused_at_once() {
+        for q in [LEAST_ORDER, TOLERANCE_ORDER, 1.0, 2.0] {
+            for tightening in [STAGNATION_TIGHTENING, 1e3] {
+                let (t, e) = (6.7e-7, 1e-3);
+                assert!(!stagnates((t, e), (t / tightening, e * tightening.powf(-q))), "q {q}, {tightening}");
+            }
+        }
+        // Tightened less than 100 times: not judged.
+        assert!(!stagnates((1e-6, 1e-3), (2e-8, 1e-3)));
+        // 6.7e-7 → 6.7e-10 with the estimate 1.1e-3 → 0.9e-3 m.
+        assert!(stagnates((6.7e-7, 1.1e-3), (6.7e-10, 0.9e-3)));
+        assert!(stagnates((6.7e-7, 1.1e-3), (6.7e-9, 2e-3)));
+        let runs = [(6.7e-7, 60.0), (1.7e-7, 90.0), (6.7e-10, 300.0), (1.7e-10, 400.0)];
+        let m = stagnation_refusal(6.67e-6, (6.7e-7, 1.1e-3), (6.7e-10, 0.9e-3), &runs);
+        for part in [
+            "run.position_tolerance = 6.67e-6 m not reached",
+            "1.10e-3 m off at rtol = atol = 6.7e-7 and 9.00e-4 m at 6.7e-10, 1000 times tighter",
+            "by 16 times or more",
+            "4 runs (rtol = atol 6.7e-7, 1.7e-7, 6.7e-10, 1.7e-10)",
+            "looser tolerance than their 1.1e-3 m",
+        ] {
+            assert!(m.contains(part), "{part}: {m}");
         }
     }
 }

@@ -57,6 +57,19 @@ impl Trend {
         }
     }
 
+    /// Starts the trend afresh at `wall` (s) for a new run from its start (a position
+    /// tolerance's next run: simulated time and steps count from zero again). What came
+    /// before counts as time spent.
+    pub fn begin_again(&mut self, wall: f64) {
+        self.samples.clear();
+        self.origin = (wall, 0.0, 0);
+    }
+
+    /// Whether a point at `simulated` s is behind the trend's last (a new run began).
+    pub fn went_back(&self, simulated: f64) -> bool {
+        self.samples.last().is_some_and(|s| simulated < s.1)
+    }
+
     /// The simulated time where the trend starts, s (0, or the last change of method).
     pub fn since(&self) -> f64 {
         self.origin.1
@@ -322,5 +335,31 @@ mod tests {
         let mut free = auto;
         free.changed("dop853", 1e-6, 1.0);
         assert!(!free.seen(1.9) && free.seen(2.0));
+    }
+
+    /// A second run from the start (a position tolerance's next run, 60 s into the first,
+    /// at 1 simulated s per 10 s of wall) is projected from its own start: 60 s spent plus
+    /// 10 s per simulated second, exactly. Without `begin_again` its first points, behind the
+    /// first run's, are projected as if that run had taken all the time so far: here more than
+    /// ten times too long (the thick flasher's second run: "about 30.5 h left").
+    #[test]
+    fn a_new_run_starts_its_own_trend() {
+        let mut trend = Trend::default();
+        for i in 1..=600 {
+            let w = 0.1 * i as f64;
+            trend.add(w, 0.02 * w, Some(i));
+        }
+        assert!(trend.went_back(0.05) && !trend.went_back(1.3));
+        let mut carried_on = trend.clone();
+        trend.begin_again(60.0);
+        for i in 1..=50 {
+            let w = 60.0 + 0.01 * i as f64;
+            trend.add(w, 0.1 * (w - 60.0), Some(i));
+            carried_on.add(w, 0.1 * (w - 60.0), Some(i));
+        }
+        assert!(!trend.went_back(0.05 + 1e-9));
+        let expected = 60.0 + 10.0 * 1.3;
+        assert!((trend.projected(1.3) - expected).abs() < 1e-9 * expected, "{}", trend.projected(1.3));
+        assert!(carried_on.projected(1.3) - 60.0 > 10.0 * (expected - 60.0), "{}", carried_on.projected(1.3));
     }
 }

@@ -40,6 +40,8 @@ pub(crate) struct Watch {
     trend: Trend,
     /// A run's method and when it changed (`None` for a sweep).
     phase: Option<Phase>,
+    /// Runs begun (a position tolerance makes several, each from the start).
+    runs: usize,
 }
 
 impl Watch {
@@ -57,6 +59,7 @@ impl Watch {
             warned: false,
             trend: Trend::default(),
             phase,
+            runs: 1,
         }
     }
 
@@ -73,6 +76,11 @@ impl Watch {
         hint: impl FnOnce() -> String,
     ) {
         let wall = self.started.elapsed().as_secs_f64();
+        // A run made again from its start (a position tolerance's next): its own trend.
+        if steps.is_some() && self.trend.went_back(done) {
+            self.trend.begin_again(wall);
+            self.runs += 1;
+        }
         if let (Some(phase), Some((_, step, method))) = (self.phase.as_mut(), steps)
             && phase.changed(method, step, wall)
         {
@@ -95,13 +103,15 @@ impl Watch {
         }
         if self.lines && self.last_report.elapsed() >= self.every {
             self.last_report = Instant::now();
+            let this = if self.runs > 1 { " in this run" } else { "" };
             let left = if left.is_finite() {
-                format!("about {} left", human_seconds(left))
+                format!("about {} left{this}", human_seconds(left))
             } else {
                 "time left unknown".into()
             };
+            let run = if self.runs > 1 { format!(" (run {})", self.runs) } else { String::new() };
             eprintln!(
-                "{}: {done:.4} of {total} {unit} ({:.0} %), {} so far, {left}",
+                "{}{run}: {done:.4} of {total} {unit} ({:.0} %), {} so far, {left}",
                 self.what,
                 100.0 * done / total,
                 human_seconds(wall)

@@ -388,6 +388,31 @@ fn long_runs_say_so_early_and_report_progress_off_a_terminal() {
     assert!(lines >= 2, "{err}");
 }
 
+/// A run held to a position tolerance is made again from its start: its progress lines say
+/// which run they follow and project that run alone (its first points were once taken for
+/// the first run's pace: "about 30.5 h left" on the thick flasher).
+#[test]
+fn a_position_tolerances_runs_are_told_apart_in_progress_lines() {
+    let dir = tmp("ptol-progress");
+    let text = std::fs::read_to_string(repo("examples/paper-3panel.toml")).unwrap();
+    let run = "integrator = \"dop853\"\nrtol = 1e-12\natol = 1e-12\n";
+    assert!(text.contains(run), "the example's [run] table changed: update this test");
+    std::fs::write(dir.join("p3.toml"), text.replace(run, "position_tolerance = 1e-8\n")).unwrap();
+    let o = foldsim()
+        .current_dir(&dir)
+        .env("FOLDSIM_PROGRESS_EVERY", "0.001")
+        .args(["run", "p3.toml", "--csv", "p3.csv"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let later: Vec<&str> = err.lines().filter(|l| l.starts_with("foldsim run (run ")).collect();
+    // Each projects its own run (or, at its very start, nothing yet).
+    assert!(later.iter().all(|l| l.contains("left in this run") || l.contains("time left unknown")), "{err}");
+    assert!(later.iter().any(|l| l.contains("left in this run")), "{err}");
+    assert!(err.lines().any(|l| l.starts_with("foldsim run: ")), "the first run's lines: {err}");
+}
+
 /// `plot` ends on any CSV, refuses formats it does not write, and says what is wrong in words.
 #[cfg(feature = "plot")]
 #[test]

@@ -389,8 +389,8 @@ fn long_runs_say_so_early_and_report_progress_off_a_terminal() {
 }
 
 /// A run held to a position tolerance is made again from its start: its progress lines say
-/// which run they follow and project that run alone (its first points were once taken for
-/// the first run's pace: "about 30.5 h left" on the thick flasher).
+/// which run they follow and project that run alone (its first points were once taken as
+/// the pace of everything since the first run's start).
 #[test]
 fn a_position_tolerances_runs_are_told_apart_in_progress_lines() {
     let dir = tmp("ptol-progress");

@@ -341,7 +341,7 @@ mod tests {
     /// at 1 simulated s per 10 s of wall) is projected from its own start: 60 s spent plus
     /// 10 s per simulated second, exactly. Without `begin_again` its first points, behind the
     /// first run's, are projected as if that run had taken all the time so far: here more than
-    /// ten times too long (the thick flasher's second run: "about 30.5 h left").
+    /// ten times too long.
     #[test]
     fn a_new_run_starts_its_own_trend() {
         let mut trend = Trend::default();

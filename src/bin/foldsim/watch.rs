@@ -7,7 +7,7 @@
 //! under `auto` a stiff model's first DOP853 steps are no guide to the implicit method that follows
 //! (the note waits for the switch: `estimate::Phase`).
 
-use foldsim::simulate::estimate::{Phase, Trend, human_seconds};
+use foldsim::simulate::estimate::{Phase, Rerun, Trend, human_seconds};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -42,6 +42,8 @@ pub(crate) struct Watch {
     phase: Option<Phase>,
     /// Runs begun (a position tolerance makes several, each from the start).
     runs: usize,
+    /// A later run projected against the one before it.
+    rerun: Rerun,
 }
 
 impl Watch {
@@ -60,6 +62,7 @@ impl Watch {
             trend: Trend::default(),
             phase,
             runs: 1,
+            rerun: Rerun::default(),
         }
     }
 
@@ -79,15 +82,20 @@ impl Watch {
         // A run made again from its start (a position tolerance's next): its own trend.
         if steps.is_some() && self.trend.went_back(done) {
             self.trend.begin_again(wall);
+            self.rerun.begin_again(wall);
             self.runs += 1;
         }
+        self.rerun.add(wall, done);
         if let (Some(phase), Some((_, step, method))) = (self.phase.as_mut(), steps)
             && phase.changed(method, step, wall)
         {
             self.trend.restart();
         }
         self.trend.add(wall, done, steps.map(|s| s.0));
-        let left = self.trend.projected(total) - wall;
+        let left = match self.rerun.left(wall, done) {
+            Some(left) if self.runs > 1 => left,
+            _ => self.trend.projected(total) - wall,
+        };
         let seen = self.phase.as_ref().map_or(wall >= NOTE_AFTER, |p| wall >= NOTE_AFTER && p.seen(wall));
         if !self.warned && seen {
             self.warned = true;

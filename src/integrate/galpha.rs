@@ -176,9 +176,8 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut err = vec![0.0; n];
     let mut cont = vec![vec![0.0; n]; 4];
-    // The accepted state before yₙ and the step from it to yₙ (s), for the rows' quadratic
-    // (`None`: no such state since the start, an event or a step taken again).
-    let mut y_back = vec![0.0; n];
+    // The step before this one (s), for the rows' quadratic, whose start yₙ₋₁ is still in
+    // `cont[0]` (`None`: no such step since the start, an event or a step taken again).
     let mut back: Option<f64> = None;
     let mut accelerate = Anderson::default();
     let mut weights = vec![0.0; n];
@@ -403,11 +402,10 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         // straight line for the rates.
         for k in 0..n {
             let ydiff = delta[k];
-            cont[0][k] = y[k];
-            cont[1][k] = ydiff;
             if let Some(r) = back_ratio {
-                // p(s) = yₙ + s Δ + s (s − 1) κ through yₙ₋₁ at s = −r (Hermite form: c₂ = −κ).
-                let kappa = (y_back[k] - y[k] + r * ydiff) / (r * (r + 1.0));
+                // p(s) = yₙ + s Δ + s (s − 1) κ through yₙ₋₁ (the last step's start, still in
+                // cont[0]) at s = −r (Hermite form: c₂ = −κ).
+                let kappa = (cont[0][k] - y[k] + r * ydiff) / (r * (r + 1.0));
                 cont[2][k] = -kappa;
                 cont[3][k] = 0.0;
             } else if rate_components[k] {
@@ -418,8 +416,9 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 cont[2][k] = bspl;
                 cont[3][k] = ydiff - h * yd_new[k] - bspl;
             }
+            cont[0][k] = y[k];
+            cont[1][k] = ydiff;
         }
-        y_back.copy_from_slice(&y);
         back = Some(h);
         y.copy_from_slice(&y_new);
         yd_prev.copy_from_slice(&yd);

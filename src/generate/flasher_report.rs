@@ -76,12 +76,13 @@ impl FlasherReport {
                     if let Some((m, count)) = &self.membrane {
                         let _ = writeln!(
                             out,
-                            "membrane hinges: {count} folding creases bonded by a membrane {} m wide across the fold line (bending stiffness {:.3e} N·m): their panels' edges move across it (A0's x and y) against {:.3e} N/m per metre of crease (12 D / w³), damped at {} of critical, while it is slack, and meet the hinges' translational stiffness beyond ±{} m (taut)",
+                            "membrane hinges: {count} folding creases bonded by a membrane {} m wide across the fold line (bending stiffness {:.3e} N·m): their panels' edges move across it (A0's x and y) against {:.3e} N/m per metre of crease (12 D / w³), damped at {} of critical, while it is slack, and meet the hinges' translational stiffness beyond ±{} m (taut), damped there for restitution {} on each crease's panels",
                             m.width,
                             m.bending,
                             m.stiffness(1.0),
                             m.damping_ratio,
-                            m.width
+                            m.width,
+                            super::crease::RESTITUTION
                         );
                     }
                     if let Some((_, first)) = s.stops.first() {

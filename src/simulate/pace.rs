@@ -78,13 +78,33 @@ pub fn held_by_stiffness(step: f64, rate: f64) -> bool {
     step * rate > 0.3
 }
 
-/// Seconds as a person reads them: `9 s`, `4.2 min`, `3.1 h`.
+/// Seconds as a person reads them: `0.4 s`, `9 s`, `4.2 min`, `3.1 h` (a tenth of a second
+/// below 10 s, so that a short run's progress does not read "0 s so far, about 0 s left").
 pub fn human_seconds(s: f64) -> String {
-    if s < 100.0 {
+    if s < 9.95 {
+        format!("{s:.1} s")
+    } else if s < 100.0 {
         format!("{s:.0} s")
     } else if s < 6000.0 {
         format!("{:.1} min", s / 60.0)
     } else {
         format!("{:.1} h", s / 3600.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::human_seconds;
+
+    /// Each range in its unit, and a sub-second time not rounded to nothing.
+    #[test]
+    fn seconds_read_in_the_unit_of_their_size() {
+        assert_eq!(human_seconds(0.04), "0.0 s");
+        assert_eq!(human_seconds(0.4), "0.4 s");
+        assert_eq!(human_seconds(9.4), "9.4 s");
+        assert_eq!(human_seconds(9.96), "10 s");
+        assert_eq!(human_seconds(42.0), "42 s");
+        assert_eq!(human_seconds(252.0), "4.2 min");
+        assert_eq!(human_seconds(11_160.0), "3.1 h");
     }
 }

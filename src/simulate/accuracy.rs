@@ -287,7 +287,8 @@ pub const STAGNATION_FALL: f64 = 2.0;
 /// looser, show errors that do not fall with the tolerance ([`STAGNATION_TIGHTENING`],
 /// [`STAGNATION_FALL`]); a refusal then says so. It does not stop the tightening: the contact
 /// z-fold under DOP853 asked 3e-5 m shows it once (6.2e-4 m at rtol 3e-5, 4.7e-4 m at
-/// 1.7e-7) and is reached after (0.58 of it, 8 runs, 16.8 s). Where it holds to the end: the thick
+/// 1.7e-7) and is reached after (0.58 of it, 8 runs, 16.8 s on the Intel Xeon 2-core at load
+/// ~0.5). Where it holds to the end: the thick
 /// flasher example, whose impacts as its sheet reaches flat turn on the integration's last
 /// digits (under SDIRK4 at rtol 1e-6, 1e-7 and 1e-8 it is 3.5e-5, 1.1e-3 and 3.4e-5 m off
 /// DOP853 at 1e-11, all at t = 1.27–1.29 s), asked 6.7e-6 m: 1.85e-3 m at 6.7e-7, 1.78e-3 m

@@ -33,10 +33,10 @@ fn expected_run_time(text: &str) -> Result<String, String> {
     let budget = std::time::Duration::from_millis(if contact { 2000 } else { 500 });
     let e = foldsim::simulate::estimate::estimate(&s.model, &s.initial, &s.settings, budget).describe();
     // Measured (docs/outputs.md): a trial of a packed start cannot see when the package
-    // opens, and thick flashers have run 1.4–13 times shorter than projected.
+    // opens, and thick flashers have run 1.3–13 times shorter than projected (docs/outputs.md, the 8 × 4 1.3× on 2026-11-29).
     Ok(if contact {
         format!(
-            "{e}; with contact the packed start is the slowest part and the trial cannot see when it opens: thick flashers have taken 1.4 to 13 times less than such projections (docs/outputs.md)"
+            "{e}; with contact the packed start is the slowest part and the trial cannot see when it opens: thick flashers have taken 1.3 to 13 times less than such projections (docs/outputs.md)"
         )
     } else {
         e

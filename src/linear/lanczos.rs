@@ -26,7 +26,7 @@
 //! (faer and nalgebra are dense; ARPACK's bindings need a Fortran library).
 
 use super::sparse::{BlockMatrix, Factors};
-use nalgebra::{DMatrix, DMatrixView, DVector, Dyn, SymmetricEigen};
+use nalgebra::{DMatrix, DMatrixView, DVector, SymmetricEigen};
 
 /// Vectors per block: the largest multiplicity found in one pass.
 const BLOCK: usize = 6;
@@ -198,7 +198,7 @@ impl<'a> Problem<'a> {
                 let new_mq = mq.data.columns(old, added).into_owned();
                 let op = solve(&new_mq);
                 // H's new columns (and rows, by symmetry): (M Q)ᵀ Op Q_new.
-                let column = mq.transposed() * &op;
+                let column = mq.view().tr_mul(&op);
                 let size = q.len;
                 h = h.resize(size, size, 0.0);
                 for (jj, j) in (old..size).enumerate() {
@@ -320,23 +320,16 @@ impl Columns {
         self.data.columns(0, self.len)
     }
 
-    /// Their transpose, len × n, without a copy (row stride n).
-    fn transposed(&self) -> DMatrixView<'_, f64, Dyn, Dyn> {
-        let n = self.data.nrows();
-        DMatrixView::from_slice_with_strides_generic(
-            &self.data.as_slice()[..n * self.len],
-            Dyn(self.len),
-            Dyn(n),
-            Dyn(n),
-            Dyn(1),
-        )
-    }
-
     /// `w ← w − Q (images)ᵀ w` for every column of w: with `images` = M Q and Q M-orthonormal,
     /// the projection out of Q's span in M's inner product.
     fn project_out(&self, images: &Columns, w: &mut DMatrix<f64>) {
         if self.len > 0 {
-            let coefficients = images.transposed() * &*w;
+            // (M Q)ᵀ w from the stored columns as they are: a transposed view with row stride
+            // n, multiplied by a single column, went through nalgebra 0.35's gemv on a strided
+            // vector, which loops over the view's whole span and wrote out of bounds
+            // (dimforge/nalgebra#1616: `foldsim modes --count 1` crashed on the 67-body
+            // flasher, found by `tests/fuzz_linear.rs`).
+            let coefficients = images.view().tr_mul(&*w);
             w.gemm(-1.0, &self.view(), &coefficients, 1.0);
         }
     }

@@ -153,11 +153,11 @@ impl<'a> Problem<'a> {
             x
         };
         let m_inverse = m.block_diagonal_inverse().ok_or("the mass matrix is singular")?;
-        let deflate = Columns::from(&self.deflate, n);
-        let m_deflate = Columns::from(&self.m_deflate, n);
+        let deflate = Columns::new(n).with(&self.deflate);
+        let m_deflate = Columns::images(n).with(&self.m_deflate);
         // The basis Q (M-orthonormal, M-orthogonal to the deflated vectors), M Q, Op Q, and
         // the projected operator H = Qᵀ M Op Q, grown a block at a time.
-        let (mut q, mut mq, mut opq) = (Columns::new(n), Columns::new(n), Columns::new(n));
+        let (mut q, mut mq, mut opq) = (Columns::new(n), Columns::images(n), Columns::new(n));
         let mut h = DMatrix::<f64>::zeros(0, 0);
         let mut pending =
             DMatrix::from_fn(n, BLOCK, |i, b| 1.0 + 0.5 * ((i as f64) * (0.37 + 0.61 * b as f64) + b as f64).sin());
@@ -198,7 +198,7 @@ impl<'a> Problem<'a> {
                 let new_mq = mq.data.columns(old, added).into_owned();
                 let op = solve(&new_mq);
                 // H's new columns (and rows, by symmetry): (M Q)ᵀ Op Q_new.
-                let column = mq.view().tr_mul(&op);
+                let column = mq.transposed() * &op;
                 let size = q.len;
                 h = h.resize(size, size, 0.0);
                 for (jj, j) in (old..size).enumerate() {
@@ -290,19 +290,28 @@ struct Columns {
     /// n × capacity; the first `len` columns hold the vectors.
     data: DMatrix<f64>,
     len: usize,
+    /// For the images of a projection (see [`Columns::transposed`]): capacity × n, the
+    /// vectors as its first `len` rows, so that their transpose is a view whose columns are
+    /// contiguous; empty otherwise.
+    rows: Option<DMatrix<f64>>,
 }
 
 impl Columns {
     fn new(n: usize) -> Self {
-        Self { data: DMatrix::zeros(n, 0), len: 0 }
+        Self { data: DMatrix::zeros(n, 0), len: 0, rows: None }
     }
 
-    fn from(vectors: &[DVector<f64>], n: usize) -> Self {
-        let mut out = Self::new(n);
+    /// Columns that also keep their transpose, for [`Columns::transposed`].
+    fn images(n: usize) -> Self {
+        Self { rows: Some(DMatrix::zeros(0, n)), ..Self::new(n) }
+    }
+
+    /// These columns with `vectors` pushed.
+    fn with(mut self, vectors: &[DVector<f64>]) -> Self {
         for v in vectors {
-            out.push(v);
+            self.push(v);
         }
-        out
+        self
     }
 
     fn push(&mut self, v: &DVector<f64>) {
@@ -310,8 +319,16 @@ impl Columns {
             let capacity = (2 * self.len).max(8 * BLOCK);
             let n = self.data.nrows();
             self.data.resize_mut(n, capacity, 0.0);
+            if let Some(rows) = self.rows.as_mut() {
+                rows.resize_mut(capacity, n, 0.0);
+            }
         }
         self.data.column_mut(self.len).copy_from(v);
+        if let Some(rows) = self.rows.as_mut() {
+            for (j, x) in v.iter().enumerate() {
+                rows[(self.len, j)] = *x;
+            }
+        }
         self.len += 1;
     }
 
@@ -320,16 +337,21 @@ impl Columns {
         self.data.columns(0, self.len)
     }
 
+    /// Their transpose, len × n, without a copy: the first `len` rows of `rows`, whose columns
+    /// are contiguous. (A view of `data` with row stride n, which this replaced, went through
+    /// nalgebra 0.35's gemv on a strided vector when a product had a side of 5 or less, which
+    /// loops over the view's whole span and wrote out of bounds: dimforge/nalgebra#1616;
+    /// `foldsim modes --count 1` crashed on the 67-body flasher, found by
+    /// `tests/fuzz_linear.rs`.) Only for columns made by [`Columns::images`].
+    fn transposed(&self) -> DMatrixView<'_, f64> {
+        self.rows.as_ref().expect("columns made to be images").rows(0, self.len)
+    }
+
     /// `w ← w − Q (images)ᵀ w` for every column of w: with `images` = M Q and Q M-orthonormal,
     /// the projection out of Q's span in M's inner product.
     fn project_out(&self, images: &Columns, w: &mut DMatrix<f64>) {
         if self.len > 0 {
-            // (M Q)ᵀ w from the stored columns as they are: a transposed view with row stride
-            // n, multiplied by a single column, went through nalgebra 0.35's gemv on a strided
-            // vector, which loops over the view's whole span and wrote out of bounds
-            // (dimforge/nalgebra#1616: `foldsim modes --count 1` crashed on the 67-body
-            // flasher, found by `tests/fuzz_linear.rs`).
-            let coefficients = images.view().tr_mul(&*w);
+            let coefficients = images.transposed() * &*w;
             w.gemm(-1.0, &self.view(), &coefficients, 1.0);
         }
     }

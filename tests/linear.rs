@@ -412,6 +412,18 @@ fn deployed(path: &str) -> Scenario {
     Scenario::from_toml(&text[..cut], "deployed.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The deployed 67-panel flasher (`examples/flasher-small.toml`) linearised at its design
+/// state, with its bodies' positions and attitudes there (for `Modes`).
+fn deployed_flasher_small() -> (Linearization, Vec<Vec3>, Vec<Mat3>) {
+    let s = deployed("examples/flasher-small.toml");
+    let (d, y) = at_start(&s);
+    let lin = Linearization::at(&d, &y, Vec3::zeros()).unwrap();
+    let motions: Vec<BodyMotion> = (0..s.model.bodies.len()).map(|i| BodyMotion::from_state(&y, i)).collect();
+    let p = motions.iter().map(|m| m.r_in_n).collect();
+    let c = motions.iter().map(|m| m.dcm_n_b).collect();
+    (lin, p, c)
+}
+
 /// The large-structure path (shift-invert Lanczos on the block-sparse K and M) gives the dense
 /// solver's modes on the deployed 67-panel flasher: the 20 lowest flexible frequencies free-free
 /// and hub-fixed to the dense solver's own round-off (ε λ_max over ω², 2e-8 here: the stiff
@@ -421,12 +433,7 @@ fn deployed(path: &str) -> Scenario {
 /// pairs carry both solvers' round-off over their gap).
 #[test]
 fn sparse_lanczos_modes_equal_the_dense_ones() {
-    let s = deployed("examples/flasher-small.toml");
-    let (d, y) = at_start(&s);
-    let lin = Linearization::at(&d, &y, Vec3::zeros()).unwrap();
-    let motions: Vec<BodyMotion> = (0..s.model.bodies.len()).map(|i| BodyMotion::from_state(&y, i)).collect();
-    let p: Vec<Vec3> = motions.iter().map(|m| m.r_in_n).collect();
-    let c: Vec<Mat3> = motions.iter().map(|m| m.dcm_n_b).collect();
+    let (lin, p, c) = deployed_flasher_small();
     let dense = Modes::of(&lin, &p, &c).unwrap();
     let sparse = Modes::lowest(&lin, &p, &c, 20).unwrap();
     let rel = |a: &[foldsim::linear::modes::Mode], b: &[foldsim::linear::modes::Mode]| {
@@ -491,12 +498,7 @@ fn sparse_lanczos_modes_equal_the_dense_ones() {
 /// `tests/fuzz_linear.rs` (`foldsim modes examples/flasher-small.toml --count 1`).
 #[test]
 fn a_few_lanczos_modes_equal_the_dense_ones() {
-    let s = deployed("examples/flasher-small.toml");
-    let (d, y) = at_start(&s);
-    let lin = Linearization::at(&d, &y, Vec3::zeros()).unwrap();
-    let motions: Vec<BodyMotion> = (0..s.model.bodies.len()).map(|i| BodyMotion::from_state(&y, i)).collect();
-    let p: Vec<Vec3> = motions.iter().map(|m| m.r_in_n).collect();
-    let c: Vec<Mat3> = motions.iter().map(|m| m.dcm_n_b).collect();
+    let (lin, p, c) = deployed_flasher_small();
     let dense = Modes::of(&lin, &p, &c).unwrap();
     let dense_error = f64::EPSILON * dense.free.last().unwrap().eigenvalue / dense.free[6].eigenvalue;
     for count in 1..=5 {

@@ -116,10 +116,20 @@ impl Trend {
     }
 }
 
+/// How many times its usual wait a projection waits for `auto` to leave a DOP853 held by the
+/// stiffest hinge ([`Phase`]). `auto` leaves it once its stiffness test has seen enough
+/// steps, and on a large packed structure each of those DOP853 steps is slow: the thick
+/// starshade (the example's options with 1-cm panels, 229 bodies) switched at t = 0.0009 s
+/// after 7.5–9 s of wall time, so with 4 (8 s with contact) `generate`'s trial ended just
+/// before it and projected 177–182 h from the held steps, where with 16 it saw the switch and
+/// projected 29 min, for a run of about 5 min (Intel Xeon 2-core, load ~1.6, 2026-11-29).
+/// The wait is spent only while DOP853 is held.
+pub const HELD_WAIT: f64 = 16.0;
+
 /// When a run's pace has been seen, for a projection: `after` of wall time in the method in
 /// use (s); but under `auto`, while it still runs the DOP853 it starts with and its steps are
 /// held by the stiffest hinge (`auto` then switches to its implicit method soon: see [`Trend`]), until it
-/// changes or four times `after` have passed.
+/// changes or [`HELD_WAIT`] times `after` have passed.
 #[derive(Clone, Debug)]
 pub struct Phase {
     /// Under `auto`: the fastest hinge's rate, 1/s (see `pace::held_by_stiffness`).
@@ -158,7 +168,7 @@ impl Phase {
     /// Whether the pace has been seen at `wall` (s).
     pub fn seen(&self, wall: f64) -> bool {
         if self.auto_rate.is_some() && self.changes == 0 && self.held {
-            wall >= 4.0 * self.after
+            wall >= HELD_WAIT * self.after
         } else {
             wall - self.started >= self.after
         }
@@ -365,7 +375,7 @@ mod tests {
     /// time at t = 0.001 s, then steady at 1 simulated s per 10 s of wall in as many steps)
     /// is projected from its pace since the change: the 3 s spent plus 10 s per simulated
     /// second left, exactly; from the start the projection was 3,000 times too long. The
-    /// phase waits for the change (to four times its wait) only while DOP853 is held.
+    /// phase waits for the change (to [`HELD_WAIT`] times its wait) only while DOP853 is held.
     #[test]
     fn a_change_of_method_restarts_the_trend() {
         let mut trend = Trend::default();
@@ -375,8 +385,12 @@ mod tests {
             let w = 0.01 * i as f64;
             assert!(!phase.changed("dop853", 1e-4, w), "no change yet");
             trend.add(w, 1e-3 * w / 3.0, Some(i));
-            assert!(!phase.seen(w), "held DOP853 is not seen until it changes or 8 s have passed");
+            assert!(!phase.seen(w), "held DOP853 is not seen until it changes or 32 s have passed");
         }
+        // Held to the end of the wait and past it: seen at HELD_WAIT times the wait, not before.
+        let mut held = auto.clone();
+        held.changed("dop853", 1e-4, 0.1);
+        assert!(!held.seen(8.0) && !held.seen(HELD_WAIT * 2.0 - 1e-9) && held.seen(HELD_WAIT * 2.0));
         assert!(trend.projected(10.0) > 1e4);
         for i in 1..=300 {
             let w = 3.0 + 0.01 * i as f64;

@@ -564,21 +564,8 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             twist.push(r);
             first += k;
         }
-        // Forward: for p in order, x_i −= L[i][p] x_p.
-        for &p in &self.order {
-            let xp = twist[p];
-            for (i, l) in &self.lower[p] {
-                twist[*i] -= l * xp;
-            }
-        }
-        // Backward: for p in reverse order, x_p = S[p][p]⁻¹ (x_p − Σ U[p][j] x_j).
-        for &p in self.order.iter().rev() {
-            let mut xp = twist[p];
-            for (j, u) in &self.upper[p] {
-                xp -= u * twist[*j];
-            }
-            twist[p] = self.pivots[p] * xp;
-        }
+        // The two triangular solves (`kernel.rs`).
+        kernel::substitute(&self.order, &self.pivots, &self.upper, &self.lower, &mut twist);
         // Poses: Δx = P (r_x + hγ ∂ẋ/∂v Δv) = P r_x + hγ P ∂ẋ/∂v Δv.
         for b in 0..self.nb {
             let dx = p_rx[b] + self.pose[b].p_times(&self.pose[b].rates_times(&twist[b]), h_gamma) * h_gamma;
@@ -594,6 +581,7 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
     }
 }
 
+mod kernel;
 pub mod order;
 pub(crate) mod symbolic;
 #[cfg(test)]

@@ -135,9 +135,7 @@ impl Symbolic {
             for row in &self.lower[p] {
                 // L = S[i][p] S[p][p]⁻¹.
                 let l = values[row.slot] * inverse;
-                for ((_, u), &t) in upper[p].iter().zip(&row.targets) {
-                    values[t] -= l * u;
-                }
+                super::kernel::update_row(values, &l, &upper[p], &row.targets);
                 lower[p].push((row.row, l));
             }
             pivots[p] = inverse;

@@ -11,7 +11,8 @@
 //! stowed state, times how many of each the run made (solves: one per Newton iteration and
 //! one per accepted step for the error estimate), and the rest (integrator bookkeeping,
 //! observations).
-//! Run: `cargo bench --bench flasher` (`-- --repeat N`; `-- --help`).
+//! Run: `cargo bench --bench flasher` (`-- --repeat N`; `-- --scenario FILE` for another
+//! scenario, as the 996-panel flasher of docs/architecture.md, *Scale*; `-- --help`).
 
 use foldsim::dynamics::Dynamics;
 use foldsim::dynamics::newton::GraphNewton;
@@ -20,7 +21,7 @@ use foldsim::kinematics::initial_state;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::simulate;
 use std::hint::black_box;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod common;
@@ -30,12 +31,16 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.iter().any(|a| a == "--help" || a == "-h") {
         println!(
-            "cargo bench --bench flasher [-- --repeat N]: the 228-panel flasher example, 60 s, with its cost split"
+            "cargo bench --bench flasher [-- --repeat N] [-- --scenario FILE]: the 228-panel flasher example \
+             (or FILE), its whole run, with its cost split"
         );
         return;
     }
     let repeat = repeat_arg(&args);
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/flasher-starshade.toml");
+    let path = match args.iter().position(|a| a == "--scenario") {
+        Some(i) => PathBuf::from(args.get(i + 1).unwrap_or_else(|| panic!("--scenario needs a file"))),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/flasher-starshade.toml"),
+    };
     let s = Scenario::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
     println!("load average before: {}", load());
     println!(

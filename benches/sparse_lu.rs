@@ -1,5 +1,5 @@
 //! The Newton matrix's factorization: our block elimination on the hinge graph
-//! (`GraphNewton::refactor`, 6 × 6 blocks in a minimum-degree order) against faer's general
+//! (`GraphNewton::refactor`, 6 × 6 blocks in a minimum-fill order) against faer's general
 //! sparse LU (symbolic analysis once, then a numeric factorization per new hγ) on the same
 //! matrix, the starshade example's `S = I − hγ ∂a/∂v − (hγ)² ∂a/∂x P ∂ẋ/∂v` at its stowed
 //! state (229 bodies: 1,374 unknowns).

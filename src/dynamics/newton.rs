@@ -19,7 +19,7 @@
 //! colouring of the body graph: bodies of one colour have disjoint neighbourhoods, so one
 //! evaluation per colour and state component fills all their columns (13 × colours
 //! evaluations, not 13 × bodies); locked directions then couple whole clusters of bodies. S is factored by block Gaussian elimination in a
-//! minimum-degree order (no fill for trees; fill along loops), dense LU inside the diagonal
+//! minimum-fill order (no fill for trees; fill along loops), dense LU inside the diagonal
 //! blocks. Each hinge's dissipated-energy integral depends on the bodies but feeds nothing
 //! back; its rows are taken as the identity, which simplified Newton tolerates (those
 //! components converge in one iteration once the bodies have).
@@ -339,7 +339,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             }
             colours[c].push(b);
         }
-        // Minimum-degree elimination order with fill, each locked hinge's node after a body
+        // Minimum-fill elimination order, each locked hinge's node after a body
         // it is matched to (`order.rs` says why).
         let pairs: Vec<(usize, usize)> = self.groups.iter().map(|&(p, c, _)| (p, c)).collect();
         let order = order::elimination_order(&neighbours, &pairs);

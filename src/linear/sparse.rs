@@ -1,5 +1,5 @@
 //! A matrix of 6 × 6 blocks on the bodies' coupling graph (a hinge or a contact between two
-//! bodies gives a block), factored by block Gaussian elimination in a minimum-degree order
+//! bodies gives a block), factored by block Gaussian elimination in a minimum-fill order
 //! (crate::dynamics::newton::order: no fill for trees, fill along loops), each pivot block
 //! inverted by LU, by the Newton matrix's own elimination (crate::dynamics::newton::symbolic):
 //! the solves of the shift-invert eigen-solver ([`super::lanczos`]).
@@ -74,7 +74,7 @@ impl BlockMatrix {
         Some(out)
     }
 
-    /// Its LU factors in a minimum-degree order; `None` if a pivot block is singular. The
+    /// Its LU factors in a minimum-fill order; `None` if a pivot block is singular. The
     /// elimination is the Newton matrix's (crate::dynamics::newton::symbolic): its pattern,
     /// then its numbers.
     pub fn factor(&self) -> Option<Factors> {

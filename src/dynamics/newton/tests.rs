@@ -6,7 +6,7 @@ use crate::integrate::DenseNewton;
 use crate::kinematics::initial_state;
 use crate::scenario::Scenario;
 
-/// Minimum-degree elimination makes no fill on a tree (a z-fold chain: two factor blocks
+/// Minimum-fill elimination makes no fill on a tree (a z-fold chain: two factor blocks
 /// per hinge, L and U) and a bounded amount on a grid (6×6: 264 blocks for 61 hinges,
 /// 2.2× the no-fill count; bound 3×).
 #[test]

@@ -5,10 +5,11 @@
 //! Why our own: the update is 216 multiply-adds on blocks scattered over the factors' fill,
 //! too small for a general matrix product (`matrixmultiply`, faer) to pay its packing, and
 //! nalgebra's fixed-size product is compiled for the baseline x86-64 (SSE2, no FMA). On the
-//! 996-panel starshade's factorization (238,435 such products each) this kernel ran the
-//! products about 2–3 times faster than nalgebra's (`cargo bench --bench sparse_lu`; figures
-//! in docs/architecture.md, *Scale*). Rounding differs from the plain product by the fused
-//! operations only (one rounding per multiply-add instead of two).
+//! 996-panel starshade (238,435 such products a factorization) a refactorization took 6.8–9.1
+//! ms with this kernel against 16.4–22.2 ms with nalgebra's products, and a solve 0.51–0.53
+//! against 0.61–0.72 ms (`cargo bench --bench flasher -- --scenario FILE`, Intel Xeon 2-core,
+//! load ~1.5; docs/architecture.md, *Scale*). Rounding differs from the plain products by the
+//! fused operations only (one rounding per multiply-add instead of two).
 
 use super::{Block, Vec6};
 

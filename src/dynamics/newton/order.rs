@@ -80,7 +80,8 @@ impl Matching<'_> {
 }
 
 /// Links among the nodes not yet eliminated: per node its neighbours as a set (to visit) and
-/// as a row of bits (to count the links among a node's neighbours: one AND a word).
+/// as a row of bits (to count the links among a node's neighbours: one AND a word). The bits
+/// take n²/8 bytes: 125 kB for 1,000 nodes, 12.5 MB for 10,000.
 struct Links {
     sets: Vec<BTreeSet<usize>>,
     bits: Vec<u64>,

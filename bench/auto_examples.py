@@ -10,6 +10,13 @@ the methods auto used (from its report) and the largest difference of auto's bod
 positions from the fixed method at the example's own choice, so that a faster auto is seen
 to give the same answer to the tolerance. The machine load is printed before and after.
 
+With --spread K each round runs every method at K tolerances spread evenly over 0.75–1.25
+times the example's own (rtol and atol scaled together), and the medians are over all of
+them: for examples whose impacts are chaotic (the thick flasher), where one run's time moves
+by 1.7x with the tolerance's last digit (docs/contact.md, *Implicit integration*), so that a
+ratio of single runs measures the rounding and not the method. The difference of positions
+is then that of the runs at the middle scale (the example's own tolerance for K odd).
+
 Usage (from the repository root, after `cargo build --release`):
     python3 bench/auto_examples.py [--reps 3] [--timeout 300] [--only flasher-small,...]
 Only the Python standard library is needed.
@@ -33,12 +40,15 @@ def load():
     return open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else ["?"] * 3
 
 
-def variant(text, method):
-    """The example's text with its integrator replaced (auto: the line removed)."""
+def variant(text, method, scale=1.0):
+    """The example's text with its integrator replaced (auto: the line removed) and its rtol
+    and atol multiplied by `scale`."""
     line = re.compile(r'^integrator\s*=\s*"[a-z0-9-]+"\s*$', re.M)
-    if method == "auto":
-        return line.sub("", text)
-    return line.sub(f'integrator = "{method}"', text)
+    text = line.sub("", text) if method == "auto" else line.sub(f'integrator = "{method}"', text)
+    if scale != 1.0:
+        tol = re.compile(r'^(rtol|atol)(\s*=\s*)([0-9.eE+-]+)\s*$', re.M)
+        text = tol.sub(lambda m: f"{m.group(1)}{m.group(2)}{float(m.group(3)) * scale:.6g}", text)
+    return text
 
 
 def run(path, csv_path, timeout):
@@ -77,7 +87,9 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--timeout", type=float, default=300)
     ap.add_argument("--only", default="")
+    ap.add_argument("--spread", type=int, default=1)
     args = ap.parse_args()
+    scales = [1.0] if args.spread <= 1 else [0.75 + 0.5 * i / (args.spread - 1) for i in range(args.spread)]
     names = sorted(f[:-5] for f in os.listdir(os.path.join(ROOT, "examples")) if f.endswith(".toml"))
     if args.only:
         names = [n for n in names if n in args.only.split(",")]
@@ -93,26 +105,31 @@ def main():
             continue
         paths = {}
         for method in METHODS:
-            # Written beside the example, so that its table files resolve.
-            p = os.path.join(ROOT, "examples", f".bench-{name}-{method}.toml")
-            with open(p, "w") as f:
-                f.write(variant(text, method))
-            paths[method] = p
+            for k, scale in enumerate(scales):
+                # Written beside the example, so that its table files resolve.
+                p = os.path.join(ROOT, "examples", f".bench-{name}-{method}-{k}.toml")
+                with open(p, "w") as f:
+                    f.write(variant(text, method, scale))
+                paths[method, k] = p
         walls = {k: [] for k in METHODS}
         notes = {}
         report = ""
         try:
             for _ in range(args.reps):
-                for method in METHODS:
-                    if method in notes:
-                        continue
-                    wall, out, note = run(paths[method], os.path.join(tmp, f"{name}-{method}.csv"), args.timeout)
-                    if note:
-                        notes[method] = note
-                    else:
-                        walls[method].append(wall)
-                        if method == "auto":
-                            report = out
+                for k in range(len(scales)):
+                    for method in METHODS:
+                        if method in notes:
+                            continue
+                        # The positions compared are those at the example's own tolerance.
+                        own_scale = k == len(scales) // 2 or not os.path.exists(os.path.join(tmp, f"{name}-{method}.csv"))
+                        out_csv = os.path.join(tmp, f"{name}-{method}" + ("" if own_scale else "-other") + ".csv")
+                        wall, out, note = run(paths[method, k], out_csv, args.timeout)
+                        if note:
+                            notes[method] = note
+                        else:
+                            walls[method].append(wall)
+                            if method == "auto" and own_scale:
+                                report = out
         finally:
             for p in paths.values():
                 os.remove(p)

@@ -124,6 +124,7 @@ impl Symbolic {
         pivots.resize(n, Block::zeros());
         upper.resize(n, Vec::new());
         lower.resize(n, Vec::new());
+        let kernel = super::kernel::Kernel::detect();
         for &p in &self.order {
             let pivot = values[self.pivot[p]];
             // The pivot's inverse (by LU): the multipliers are products with it, and so is
@@ -135,7 +136,7 @@ impl Symbolic {
             for row in &self.lower[p] {
                 // L = S[i][p] S[p][p]⁻¹.
                 let l = values[row.slot] * inverse;
-                super::kernel::update_row(values, &l, &upper[p], &row.targets);
+                kernel.update_row(values, &l, &upper[p], &row.targets);
                 lower[p].push((row.row, l));
             }
             pivots[p] = inverse;

@@ -80,43 +80,47 @@ fn columns_can_be_chosen() {
 
 /// A long run's partial file has its header at once and rows within a few seconds (they
 /// were held in a buffer: a stuck run left a 0-byte file after a minute), and Ctrl-C stops
-/// it saying where it stopped and where its rows are.
+/// it saying where it stopped and where its rows are; so does SIGTERM (a batch system's time
+/// limit), which used to end it without a word.
 #[cfg(unix)]
 #[test]
-fn a_long_run_shows_its_rows_and_stops_on_ctrl_c() {
-    let dir = tmp("sigint");
-    let scenario = dir.join("long.toml");
-    // A 64-panel chain for 1e4 s: an hour of work, whose output (one row per second) is small.
-    let text = foldsim::generate::zfold(
-        64,
-        &foldsim::generate::Params { duration: 1e4, output_step: 1.0, ..Default::default() },
-    );
-    std::fs::write(&scenario, text).unwrap();
-    let csv = dir.join("long.csv");
-    let partial = dir.join("long.csv.partial");
-    let mut child = foldsim()
-        .args(["run", scenario.to_str().unwrap(), "-q", "--csv", csv.to_str().unwrap()])
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    let lines = |p: &Path| std::fs::read_to_string(p).map(|t| t.lines().count()).unwrap_or(0);
-    while lines(&partial) < 1 && start.elapsed() < Duration::from_secs(10) {
-        std::thread::sleep(Duration::from_millis(20));
+fn a_long_run_shows_its_rows_and_stops_on_ctrl_c_or_sigterm() {
+    for signal in ["INT", "TERM"] {
+        let dir = tmp(&format!("sig{signal}"));
+        let scenario = dir.join("long.toml");
+        // A 64-panel chain for 1e4 s: an hour of work, whose output (one row per second) is
+        // small.
+        let text = foldsim::generate::zfold(
+            64,
+            &foldsim::generate::Params { duration: 1e4, output_step: 1.0, ..Default::default() },
+        );
+        std::fs::write(&scenario, text).unwrap();
+        let csv = dir.join("long.csv");
+        let partial = dir.join("long.csv.partial");
+        let mut child = foldsim()
+            .args(["run", scenario.to_str().unwrap(), "-q", "--csv", csv.to_str().unwrap()])
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let start = Instant::now();
+        let lines = |p: &Path| std::fs::read_to_string(p).map(|t| t.lines().count()).unwrap_or(0);
+        while lines(&partial) < 1 && start.elapsed() < Duration::from_secs(10) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert!(lines(&partial) >= 1, "no header in the partial file after {:?}", start.elapsed());
+        while lines(&partial) < 2 && start.elapsed() < Duration::from_secs(15) {
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        assert!(lines(&partial) >= 2, "no row in the partial file after {:?}", start.elapsed());
+        let killed = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
+        assert!(killed.success());
+        let status = child.wait().unwrap();
+        let mut err = String::new();
+        std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+        assert!(!status.success());
+        assert!(err.contains("interrupted at t =") && err.contains("long.csv.partial"), "SIG{signal}: {err}");
+        assert!(!csv.exists());
     }
-    assert!(lines(&partial) >= 1, "no header in the partial file after {:?}", start.elapsed());
-    while lines(&partial) < 2 && start.elapsed() < Duration::from_secs(15) {
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    assert!(lines(&partial) >= 2, "no row in the partial file after {:?}", start.elapsed());
-    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(killed.success());
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
-    assert!(!status.success());
-    assert!(err.contains("interrupted at t =") && err.contains("long.csv.partial"), "{err}");
-    assert!(!csv.exists());
 }
 
 /// `--csv` naming the scenario or one of its table files is refused and the file is left as

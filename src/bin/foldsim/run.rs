@@ -95,7 +95,8 @@ pub(crate) fn run(
     let mut sink = CsvSink::create(&target, &columns)?;
     let duration = settings.duration;
 
-    // Ctrl-C stops the run at its next step, which then says where it stopped.
+    // Ctrl-C (and SIGTERM, SIGHUP: the crate's "termination" feature) stops the run at its
+    // next step, which then says where it stopped.
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));

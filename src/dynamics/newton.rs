@@ -565,7 +565,9 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             first += k;
         }
         // The two triangular solves (`kernel.rs`).
-        kernel::Kernel::detect().substitute(&self.order, &self.pivots, &self.upper, &self.lower, &mut twist);
+        let factors =
+            kernel::Factors { order: &self.order, pivots: &self.pivots, upper: &self.upper, lower: &self.lower };
+        kernel::Kernel::detect().substitute(&factors, &mut twist);
         // Poses: Δx = P (r_x + hγ ∂ẋ/∂v Δv) = P r_x + hγ P ∂ẋ/∂v Δv.
         for b in 0..self.nb {
             let dx = p_rx[b] + self.pose[b].p_times(&self.pose[b].rates_times(&twist[b]), h_gamma) * h_gamma;

@@ -21,6 +21,16 @@
 
 use super::{Block, Vec6};
 
+/// The factors the triangular solves read: the elimination `order`, each pivot's inverse
+/// (`pivots`), and per eliminated node its blocks of U (`upper`: column, block) and of L
+/// (`lower`: row, block).
+pub(super) struct Factors<'a> {
+    pub order: &'a [usize],
+    pub pivots: &'a [Block],
+    pub upper: &'a [Vec<(usize, Block)>],
+    pub lower: &'a [Vec<(usize, Block)>],
+}
+
 /// Which build of the loops this processor runs, found once per factorization or solve.
 #[derive(Clone, Copy)]
 pub(super) struct Kernel {
@@ -59,24 +69,17 @@ impl Kernel {
     }
 
     /// The factors' two triangular solves on `x` (per node, its 6 numbers; overwritten):
-    /// forward, for p in `order`, `x_i −= L[i][p] x_p`; backward, for p in reverse order,
-    /// `x_p = S[p][p]⁻¹ (x_p − Σ U[p][j] x_j)` (`pivots` the inverses).
-    pub(super) fn substitute(
-        self,
-        order: &[usize],
-        pivots: &[Block],
-        upper: &[Vec<(usize, Block)>],
-        lower: &[Vec<(usize, Block)>],
-        x: &mut [Vec6],
-    ) {
+    /// forward, for p in the order, `x_i −= L[i][p] x_p`; backward, for p in reverse order,
+    /// `x_p = S[p][p]⁻¹ (x_p − Σ U[p][j] x_j)` (the pivots held as their inverses).
+    pub(super) fn substitute(self, factors: &Factors<'_>, x: &mut [Vec6]) {
         #[cfg(target_arch = "x86_64")]
         if self.fused {
             // SAFETY: as in `update_row`: the instructions `substitute_fused` requires were
             // found by `detect`.
-            unsafe { substitute_fused(order, pivots, upper, lower, x) };
+            unsafe { substitute_fused(factors, x) };
             return;
         }
-        substitute_with(order, pivots, upper, lower, x, plain_fma);
+        substitute_with(factors, x, plain_fma);
     }
 }
 
@@ -96,14 +99,8 @@ fn update_row_fused(values: &mut [Block], l: &Block, upper: &[(usize, Block)], t
 /// [`Kernel::substitute`] compiled for AVX2 with FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn substitute_fused(
-    order: &[usize],
-    pivots: &[Block],
-    upper: &[Vec<(usize, Block)>],
-    lower: &[Vec<(usize, Block)>],
-    x: &mut [Vec6],
-) {
-    substitute_with(order, pivots, upper, lower, x, f64::mul_add);
+fn substitute_fused(factors: &Factors<'_>, x: &mut [Vec6]) {
+    substitute_with(factors, x, f64::mul_add);
 }
 
 /// The row update's one body: each target column kept in registers while the six columns of
@@ -134,14 +131,8 @@ fn update_row_with(
 
 /// The solves' one body.
 #[inline(always)]
-fn substitute_with(
-    order: &[usize],
-    pivots: &[Block],
-    upper: &[Vec<(usize, Block)>],
-    lower: &[Vec<(usize, Block)>],
-    x: &mut [Vec6],
-    fma: impl Fn(f64, f64, f64) -> f64 + Copy,
-) {
+fn substitute_with(factors: &Factors<'_>, x: &mut [Vec6], fma: impl Fn(f64, f64, f64) -> f64 + Copy) {
+    let Factors { order, pivots, upper, lower } = *factors;
     for &p in order {
         let xp = x[p];
         for (i, l) in &lower[p] {
@@ -229,7 +220,8 @@ mod tests {
         }
         for kernel in [Kernel::portable(), Kernel::detect()] {
             let mut x = start.clone();
-            kernel.substitute(&order, &pivots, &upper, &lower, &mut x);
+            let factors = Factors { order: &order, pivots: &pivots, upper: &upper, lower: &lower };
+            kernel.substitute(&factors, &mut x);
             for (v, e) in x.iter().zip(&expected) {
                 assert!((v - e).amax() < 1e-9 * e.amax().max(1.0), "fused {}: {v} against {e}", kernel.fused);
             }

@@ -394,6 +394,39 @@ fn exact_jacobian_with_contact_matches_differences() {
     assert!(m <= 1e-8, "{m:e}");
 }
 
+/// The points of the last right-hand side's state are reused for that state (an accepted
+/// step's end) only while the contact memory is as it was: after an accept that gives the
+/// points new impact speeds, the points at the same state carry the new law's forces, as a
+/// dynamics that never evaluated that state finds them.
+#[test]
+fn points_reused_only_while_the_memory_holds() {
+    let s = impact(1.0, 0.5, 0.01, "stiffness = 1e7\nrestitution = 0.5\nfriction = 0.3", 0.1, 0.01);
+    let (mut y, refs) = foldsim::kinematics::initial_state(&s.model, &s.initial);
+    // The cube 1 mm into the slab, approaching it at 0.3 m/s.
+    y[13 + 2] -= 0.01 + 1e-3;
+    y[13 + 9] = -0.3;
+    let cached = foldsim::dynamics::Dynamics::new(&s.model, refs.clone());
+    let fresh = foldsim::dynamics::Dynamics::new(&s.model, refs);
+    let mut dydt = vec![0.0; y.len()];
+    for d in [&cached, &fresh] {
+        d.initialize_memory(&y);
+    }
+    cached.rhs(&y, &mut dydt);
+    let before = cached.contact_points(&y);
+    assert_eq!(before.len(), 16, "points in contact");
+    // Held impact speeds ten times the approach rate: a tenth of the damping.
+    let speeds: Vec<_> = before.iter().map(|p| (p.key, 10.0 * p.rate)).collect();
+    for d in [&cached, &fresh] {
+        d.set_entry_speeds(speeds.clone());
+        d.accept(0.0, &y).unwrap();
+    }
+    let (after, expected) = (cached.contact_points(&y), fresh.contact_points(&y));
+    assert_eq!(after, expected);
+    let force = |points: &[foldsim::contact::ContactPoint]| points.iter().map(|p| p.force_in_n.z).sum::<f64>();
+    println!("normal force before the accept {:.6} N, after {:.6} N", force(&before), force(&after));
+    assert!((force(&after) - force(&before)).abs() > 1e-3 * force(&before).abs(), "the speeds changed nothing");
+}
+
 /// SDIRK4 with contact: the impact rebounds as under DOP853 (the velocities after it agree
 /// to 1e-4 of the speed, SDIRK4's tolerance here), with exact Jacobians throughout.
 #[test]
@@ -451,7 +484,7 @@ fn animation_frames_show_the_touch() {
 /// (panels closing, bouncing and settling), at every output row, the points found through a
 /// list built at the row before (or several rows before: bodies moved farther), and through
 /// one built there and brought up to date at every row since (as accepted steps do, rebuilt
-/// where it says so), are exactly those of a full search, with the impact speeds of the
+/// where it says so, keeping the sides that moved little), are exactly those of a full search, with the impact speeds of the
 /// points in contact at the row before (the memory the lists keep for their probes).
 #[test]
 fn proximity_list_finds_every_contact() {
@@ -473,7 +506,7 @@ fn proximity_list_finds_every_contact() {
             })
             .collect()
     };
-    let (mut compared, mut with_contact) = (0, 0);
+    let (mut compared, mut with_contact, mut kept) = (0, 0, 0);
     for lag in [1, 5, 20] {
         for k in lag..obs.len() {
             // The points of the row before as the memory, at their rates then (the impact
@@ -487,7 +520,9 @@ fn proximity_list_finds_every_contact() {
             for o in &obs[k - lag + 1..k] {
                 let f = frames(o);
                 if !updated.rereference(set, &f, &mut Vec::new()) {
-                    updated = Proximity::build(set, &f, set.skin());
+                    // As accepted steps rebuild it: the sides that moved little kept.
+                    updated = Proximity::rebuild(Some(updated), set, &f, set.skin());
+                    kept += updated.kept;
                 }
             }
             near.remember(&memory);
@@ -510,8 +545,9 @@ fn proximity_list_finds_every_contact() {
             with_contact += usize::from(!full.is_empty());
         }
     }
-    println!("proximity list: {compared} states compared, {with_contact} with contact");
+    println!("proximity list: {compared} states compared, {with_contact} with contact, {kept} sides kept at rebuilds");
     assert!(with_contact > 100);
+    assert!(kept > 0, "no rebuild kept a side: the test does not reach `rebuild`'s reuse");
 }
 
 /// The cube lands on a cylinder (the hub shape, axis z, its flat top up) rather than a box:

@@ -163,8 +163,6 @@ impl ExactJacobian for Dynamics<'_> {
         let motions: Vec<BodyMotion> = (0..nb).map(|i| BodyMotion::from_state(y, i)).collect();
         // Per body: total hinge torque, N components (for the rotation into body components).
         let mut torque_in_n = vec![Vector3::<f64>::zeros(); nb];
-        // The blocks of contact and loads, sent after the hinges' (which go as they come).
-        let mut hinge_blocks = Vec::new();
         let t = self.time.get();
         // Each body's motion in its own 13 lanes, once; each hinge's one-body quantities in
         // those lanes too, and the hinge evaluated twice: with the parent's lanes and the
@@ -209,7 +207,7 @@ impl ExactJacobian for Dynamics<'_> {
             // pair's force and its moment about each body's centre summed over its points
             // before the accelerations are formed (once per pair, not per point).
             let mut pair: Option<PairSum> = None;
-            let flush = |sum: PairSum, hinge_blocks: &mut Vec<_>, torque_in_n: &mut Vec<Vector3<f64>>| {
+            let flush = |sum: PairSum, add: &mut BlockSink<'_>, torque_in_n: &mut Vec<Vector3<f64>>| {
                 let (a, b) = sum.bodies;
                 let (force_in_b, moment_about_a_in_b, moment_about_b_in_b) = sum.force_and_moments();
                 let force_in_n = sum.dcm_n_b * force_in_b;
@@ -219,8 +217,8 @@ impl ExactJacobian for Dynamics<'_> {
                     torque_in_n[body_index] += torque.map(re);
                     let rows = accel_rows(&model.bodies[body_index], &motions[body_index].dcm_n_b, &force, &torque);
                     let [(ax, av), (bx, bv)] = split(&rows);
-                    hinge_blocks.push((body_index, a, ax, av));
-                    hinge_blocks.push((body_index, b, bx, bv));
+                    add(body_index, a, &ax, &av);
+                    add(body_index, b, &bx, &bv);
                 }
             };
             // The points `coupled_pairs` found at this state, else found now.
@@ -234,7 +232,7 @@ impl ExactJacobian for Dynamics<'_> {
                 let Some((sample, solid)) = set.sample_and_solid(&p.key) else { continue };
                 if pair.as_ref().is_none_or(|s| s.bodies != (a, b)) {
                     if let Some(done) = pair.take() {
-                        flush(done, &mut hinge_blocks, &mut torque_in_n);
+                        flush(done, add, &mut torque_in_n);
                     }
                     pair = Some(PairSum::new((a, b), &own[a], &own[b]));
                 }
@@ -243,7 +241,7 @@ impl ExactJacobian for Dynamics<'_> {
                 }
             }
             if let Some(done) = pair.take() {
-                flush(done, &mut hinge_blocks, &mut torque_in_n);
+                flush(done, add, &mut torque_in_n);
             }
         }
         // External loads (crate::loads): one fixed in its body's frame, or acting off the
@@ -253,7 +251,7 @@ impl ExactJacobian for Dynamics<'_> {
             torque_in_n[b] += torque.map(re);
             let rows = accel_rows(&model.bodies[b], &motions[b].dcm_n_b, &force, &torque);
             let (dx, dv) = block(&rows);
-            hinge_blocks.push((b, b, dx, dv));
+            add(b, b, &dx, &dv);
         };
         for load in model.loads.iter().chain(self.commanded.borrow().iter()) {
             let (force, torque) = load.wrench(t, &own[load.body].dcm_n_b);
@@ -263,9 +261,6 @@ impl ExactJacobian for Dynamics<'_> {
         let hub = seeded13(body(0));
         if let Some(tau_b) = self.control_torque(&hub, &y[wi..wi + model.wheel_count()]) {
             self_block(0, Vector3::zeros(), own[0].dcm_n_b * tau_b);
-        }
-        for (i, j, dx, dv) in &hinge_blocks {
-            add(*i, *j, dx, dv);
         }
         // Per body: ω̇ = I⁻¹ ([b N](q) τ_total − ω × Iω) in its own attitude and rate.
         for (i, bd) in model.bodies.iter().enumerate() {

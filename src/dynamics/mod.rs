@@ -41,6 +41,11 @@ struct Scratch {
     /// Contact: the bodies' frames, the points found, the search's work space.
     frames: Vec<crate::contact::Frame>,
     contacts: Vec<ContactPoint>,
+    /// The bodies' part of the state `contacts` were found at (empty: none), while the
+    /// contact memory has not changed since: an accepted step's end was the last stage's
+    /// state, whose points [`Dynamics::contact_points`] then takes rather than probing again
+    /// (3 % of the 6 × 3 thick flasher's instructions).
+    contacts_at: Vec<f64>,
     contact_work: crate::contact::Workspace,
 }
 
@@ -162,6 +167,7 @@ impl<'m> Dynamics<'m> {
                 work: Workspace::default(),
                 frames: vec![Frame::default(); nb],
                 contacts: Vec::new(),
+                contacts_at: Vec::new(),
                 contact_work: Default::default(),
             }),
             contact_memory: RefCell::new(ContactMemory::default()),
@@ -249,6 +255,10 @@ impl<'m> Dynamics<'m> {
     pub fn contact_points(&self, y: &[f64]) -> Vec<ContactPoint> {
         let Some(set) = &self.model.contact else { return Vec::new() };
         let mut scratch = self.scratch.borrow_mut();
+        let bodies = BODY_STATE_LEN * self.model.bodies.len();
+        if !scratch.contacts_at.is_empty() && scratch.contacts_at[..] == y[..bodies] {
+            return scratch.contacts.clone();
+        }
         let Scratch { frames, contact_work, .. } = &mut *scratch;
         fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
         let mut out = Vec::new();
@@ -269,7 +279,7 @@ impl<'m> Dynamics<'m> {
         let mut proximity = self.proximity.borrow_mut();
         let mut motion = Vec::new();
         if proximity.as_mut().is_none_or(|p| !p.rereference(set, frames, &mut motion)) {
-            let mut list = Proximity::build(set, frames, set.skin());
+            let mut list = Proximity::rebuild(proximity.take(), set, frames, set.skin());
             list.remember(&self.contact_memory.borrow());
             *proximity = Some(list);
         }
@@ -376,6 +386,7 @@ impl<'m> Dynamics<'m> {
         let log = self.contact_log.borrow();
         mark_touched(points.iter().filter(|p| !log.is_resting(p)), &mut self.touched.borrow_mut());
         drop(log);
+        self.scratch.borrow_mut().contacts_at.clear();
         let mut memory = self.contact_memory.borrow_mut();
         let old = std::mem::take(&mut *memory);
         for p in points {
@@ -483,7 +494,8 @@ impl<'m> Dynamics<'m> {
         let refs = self.theta_refs.borrow();
         let memories = self.memories.borrow();
         let mut scratch = self.scratch.borrow_mut();
-        let Scratch { motions, force_in_n, torque_in_n, rows, work, frames, contacts, contact_work } = &mut *scratch;
+        let Scratch { motions, force_in_n, torque_in_n, rows, work, frames, contacts, contacts_at, contact_work } =
+            &mut *scratch;
         let active = self.active.borrow();
         let (locks, lock_ranges) = &*active;
         for (i, m) in motions.iter_mut().enumerate() {
@@ -531,6 +543,8 @@ impl<'m> Dynamics<'m> {
                 Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, contacts),
                 None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts),
             }
+            contacts_at.clear();
+            contacts_at.extend_from_slice(&y[..BODY_STATE_LEN * model.bodies.len()]);
             let mut dissipation = 0.0;
             for p in contacts.iter() {
                 let (a, b) = (p.key.body as usize, p.key.other as usize);

@@ -4,9 +4,9 @@
 //!
 //! Built at a reference state: for every pair whose bounding boxes, grown by half the `skin`,
 //! overlap, the samples of each (crease samples left out) within [`COVER`] skins of the
-//! other's solid, with their gaps `d − ρ` there. A sample's centre moves, in the other body's frame, by at
-//! most `|Δr| + 2 sin(θ/2) |p|` from the reference (`Δr` the change of its body's origin
-//! there, `θ` the angle of the change of their relative attitude, `p` the sample in its
+//! other's solid, with their gaps `d − ρ` there. A sample's centre moves, in the other
+//! body's frame, by at most `|Δr| + 2 sin(θ/2) |p|` from the reference (`Δr` the change of
+//! its body's origin there, `θ` the angle of the change of their relative attitude, `p` the sample in its
 //! body's frame), and its distance from the other's solid by no more (the distance is
 //! 1-Lipschitz): a sample whose gap exceeds that cannot touch and is skipped. Hinged
 //! neighbours, whose samples next to the crease sit millimetres apart, are thus probed only
@@ -20,7 +20,8 @@
 //! whose motions add up to less than its least gap is skipped before its relative pose is
 //! formed. Beyond half the skin the list is rebuilt (at an accepted step: each pair's side
 //! kept if its body has moved little in the other's frame since it was listed,
-//! [`Proximity::rebuild`]) or, at a trial state, every pair is probed. Skipping never changes a result: only samples not in contact
+//! [`Proximity::rebuild`]) or, at a trial state, every pair is probed. Skipping never
+//! changes a result: only samples not in contact
 //! are skipped, and the rest are probed in the full search's order.
 //!
 //! At every accepted step the gaps of the samples that may be probed are measured again
@@ -142,10 +143,10 @@ pub struct NearSide {
     reference: (Mat3, Vec3),
     /// The places in `samples` whose `impact` is set (not NaN).
     remembered: Vec<u32>,
-    /// The body's pose in the other's frame when its list was last made or kept (the
-    /// attitude and the origin, m), and how far from the other's solid every sample not
-    /// listed was then, at least (m).
+    /// The body's pose in the other's frame when its list was last made or kept: the
+    /// attitude and the origin (m).
     based: (Mat3, Vec3),
+    /// How far from the other's solid every sample not listed was then, at least, m.
     cover: f64,
     /// The places in `samples` whose gap is at most [`SLACK`] (in contact, or within rounding
     /// of it, at the reference): what [`Proximity::remember`] looks up, rather than every

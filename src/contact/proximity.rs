@@ -2,15 +2,16 @@
 //! per sample point), so that a right-hand side probes only the samples that may be in
 //! contact, not every sample of every pair whose boxes overlap.
 //!
-//! Built at a reference state: for every pair whose bounding boxes, grown by half the `skin`,
-//! overlap, the samples of each (crease samples left out) within [`COVER`] skins of the
-//! other's solid, with their gaps `d − ρ` there. A sample's centre moves, in the other
+//! Built at a reference state: for every pair whose bounding boxes, grown by half the
+//! `skin`, overlap, the samples of each (crease samples left out) within [`COVER`] skins of
+//! the other's solid, with their gaps `d − ρ` there. A sample's centre moves, in the other
 //! body's frame, by at most `|Δr| + 2 sin(θ/2) |p|` from the reference (`Δr` the change of
-//! its body's origin there, `θ` the angle of the change of their relative attitude, `p` the sample in its
-//! body's frame), and its distance from the other's solid by no more (the distance is
-//! 1-Lipschitz): a sample whose gap exceeds that cannot touch and is skipped. Hinged
-//! neighbours, whose samples next to the crease sit millimetres apart, are thus probed only
-//! when their relative pose changes by that much, not whenever the structure moves.
+//! its body's origin there, `θ` the angle of the change of their relative attitude, `p` the
+//! sample in its body's frame), and its distance from the other's solid by no more (the
+//! distance is 1-Lipschitz): a sample whose gap exceeds that cannot touch and is skipped.
+//! Hinged neighbours, whose samples next to the crease sit millimetres apart, are thus
+//! probed only when their relative pose changes by that much, not whenever the structure
+//! moves.
 //!
 //! Samples left out of the list (farther than `skin`) cannot touch while every body has
 //! moved less than half the skin relative to the first body (the hub): distances do not

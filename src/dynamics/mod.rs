@@ -41,10 +41,11 @@ struct Scratch {
     /// Contact: the bodies' frames, the points found, the search's work space.
     frames: Vec<crate::contact::Frame>,
     contacts: Vec<ContactPoint>,
-    /// The bodies' part of the state `contacts` were found at (empty: none), while the
-    /// contact memory has not changed since: an accepted step's end was the last stage's
-    /// state, whose points [`Dynamics::contact_points`] then takes rather than probing again
-    /// (3 % of the 6 × 3 thick flasher's instructions).
+    /// The bodies' part of the state `contacts` were found at (by a right-hand side or
+    /// [`Dynamics::contact_points`]; empty: none, or the contact memory changed since): an
+    /// accepted step's end was its last stage's state, whose points the crossing check and
+    /// the acceptance then take rather than probing again (3 % of the 6 × 3 thick flasher's
+    /// instructions).
     contacts_at: Vec<f64>,
     contact_work: crate::contact::Workspace,
 }
@@ -82,9 +83,6 @@ pub struct Dynamics<'m> {
     /// Contact over the run so far, at accepted steps.
     contact_record: RefCell<ContactRecord>,
     contact_log: RefCell<crate::contact::episodes::ContactLog>,
-    /// The contact points of the last state [`Self::contact_changes`] looked at: the step
-    /// end that is usually accepted next, whose points `accept_contacts` then reuses.
-    step_end_points: RefCell<Option<(Vec<f64>, Vec<ContactPoint>)>>,
     /// The approach speeds (m/s) at which points entering contact in the step about to be
     /// accepted crossed into it, located on the step's dense output
     /// ([`Self::set_entry_speeds`]); taken by the next `accept_contacts`.
@@ -173,7 +171,6 @@ impl<'m> Dynamics<'m> {
             contact_memory: RefCell::new(ContactMemory::default()),
             contact_record: RefCell::new(ContactRecord::default()),
             contact_log: RefCell::new(Default::default()),
-            step_end_points: RefCell::new(None),
             entry_speeds: RefCell::new(Vec::new()),
             touched: RefCell::new(vec![false; nb]),
             proximity: RefCell::new(None),
@@ -259,14 +256,16 @@ impl<'m> Dynamics<'m> {
         if !scratch.contacts_at.is_empty() && scratch.contacts_at[..] == y[..bodies] {
             return scratch.contacts.clone();
         }
-        let Scratch { frames, contact_work, .. } = &mut *scratch;
+        let Scratch { frames, contacts, contacts_at, contact_work, .. } = &mut *scratch;
         fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
-        let mut out = Vec::new();
+        contacts.clear();
         match &*self.proximity.borrow() {
-            Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, &mut out),
-            None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, &mut out),
+            Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, contacts),
+            None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts),
         }
-        out
+        contacts_at.clear();
+        contacts_at.extend_from_slice(&y[..bodies]);
+        contacts.clone()
     }
 
     /// Rebuilds the proximity list at the accepted state `y` if the bodies have moved beyond
@@ -303,18 +302,11 @@ impl<'m> Dynamics<'m> {
         if self.model.contact.is_none() {
             return Vec::new();
         }
-        // The points this state was probed for already (a located change then the step's
-        // acceptance ask at one state), else probed now.
-        let cached = self.step_end_points.borrow_mut().take();
-        let now = match cached {
-            Some((at, points)) if at.as_slice() == y => points,
-            _ => self.contact_points(y),
-        };
+        let now = self.contact_points(y);
         let memory = self.contact_memory.borrow();
         let mut changed: Vec<_> = now.iter().map(|p| p.key).filter(|k| !memory.contains_key(k)).collect();
         let in_now: std::collections::HashSet<_> = now.iter().map(|p| p.key).collect();
         changed.extend(memory.keys().filter(|k| !in_now.contains(k)).copied());
-        *self.step_end_points.borrow_mut() = Some((y.to_vec(), now));
         changed
     }
 
@@ -365,11 +357,8 @@ impl<'m> Dynamics<'m> {
             return;
         }
         self.refresh_proximity(y);
-        // The step end's points, if the crossing check evaluated this very state already.
-        let points = match self.step_end_points.borrow_mut().take() {
-            Some((at, points)) if at.as_slice() == y => points,
-            _ => self.contact_points(y),
-        };
+        // The step end's points: its last stage's, or the crossing check's, at this very state.
+        let points = self.contact_points(y);
         self.contact_record.borrow_mut().record(t, &points);
         // A point new in contact holds the speed at which it crossed into it, where the
         // step's dense output located that (crate::simulate), else its rate now.

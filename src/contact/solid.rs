@@ -19,6 +19,9 @@ pub enum SolidKind {
         /// Its edges in order (each starting at a vertex), with what [`polygon_distance`]
         /// needs of each formed once.
         edges: Vec<Edge>,
+        /// Whether the outline is convex (every turn to the left), which lets
+        /// [`outline_distance`] take the nearest edge's line (see there).
+        convex: bool,
         /// Half the thickness, m (> 0).
         half_thickness: f64,
     },
@@ -139,7 +142,7 @@ impl Solid {
                 }
             }
         }
-        let kind = SolidKind::Prism { edges: Edge::of(&polygon), half_thickness: h };
+        let kind = SolidKind::Prism { edges: Edge::of(&polygon), convex: is_convex(&polygon), half_thickness: h };
         Self::finish(origin, dcm_s_b, kind, samples)
     }
 
@@ -203,7 +206,7 @@ impl Solid {
         };
         let to_body = |p: Vec3| origin + dcm_s_b.transpose() * p;
         match &kind {
-            SolidKind::Prism { edges, half_thickness } => {
+            SolidKind::Prism { edges, half_thickness, .. } => {
                 for p in edges.iter().map(|e| e.a) {
                     for zz in [-half_thickness, *half_thickness] {
                         grow(to_body(Vec3::new(p[0], p[1], zz)), 0.0);
@@ -257,8 +260,8 @@ impl Solid {
         let dcm: Matrix3<T> = lift(&self.dcm_s_b);
         let p = dcm * (p_in_body - self.origin_in_body.map(real::<T>));
         let (d, n) = match &self.kind {
-            SolidKind::Prism { edges, half_thickness } => {
-                let (d2, g2) = polygon_distance(edges, [p.x, p.y]);
+            SolidKind::Prism { edges, convex, half_thickness } => {
+                let (d2, g2) = outline_distance(edges, *convex, [p.x, p.y]);
                 extrude(d2, g2, p.z, *half_thickness)
             }
             SolidKind::Cylinder { radius, half_height } => {
@@ -293,8 +296,8 @@ impl Solid {
     pub fn distance_and_lateral(&self, p_in_body: &Vec3) -> (f64, f64) {
         let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
         match &self.kind {
-            SolidKind::Prism { edges, half_thickness } => {
-                let (d2, g2) = polygon_distance(edges, [p.x, p.y]);
+            SolidKind::Prism { edges, convex, half_thickness } => {
+                let (d2, g2) = outline_distance(edges, *convex, [p.x, p.y]);
                 (extrude(d2, g2, p.z, *half_thickness).0, d2)
             }
             SolidKind::Cylinder { radius, half_height } => {
@@ -384,6 +387,8 @@ pub struct Edge {
     e: [f64; 2],
     /// `1 / |b − a|²`, 1/m².
     inv_length2: f64,
+    /// The outward unit normal `(e_y, −e_x) / |e|` (the outline counter-clockwise).
+    normal: [f64; 2],
     /// `(b_x − a_x) / (b_y − a_y)` (infinite for an edge along x, where the crossing test
     /// never asks for it).
     slope_x_per_y: f64,
@@ -397,10 +402,70 @@ impl Edge {
             .map(|i| {
                 let (a, b) = (polygon[i], polygon[(i + 1) % n]);
                 let e = [b[0] - a[0], b[1] - a[1]];
-                Edge { a, b, e, inv_length2: 1.0 / (e[0] * e[0] + e[1] * e[1]), slope_x_per_y: e[0] / e[1] }
+                let l = e[0].hypot(e[1]);
+                Edge {
+                    a,
+                    b,
+                    e,
+                    inv_length2: 1.0 / (e[0] * e[0] + e[1] * e[1]),
+                    normal: [e[1] / l, -e[0] / l],
+                    slope_x_per_y: e[0] / e[1],
+                }
             })
             .collect()
     }
+}
+
+/// Whether the counter-clockwise simple `polygon` is strictly convex: a turn to the left
+/// by more than 1e-9 rad at every vertex. (Two edges in line, or all but, leave the nearest
+/// of their lines to rounding, and [`outline_distance`] would take the wrong corner.)
+fn is_convex(polygon: &[[f64; 2]]) -> bool {
+    let n = polygon.len();
+    (0..n).all(|i| {
+        let (a, b, c) = (polygon[i], polygon[(i + 1) % n], polygon[(i + 2) % n]);
+        let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+        u[0] * v[1] - u[1] * v[0] > 1e-9 * u[0].hypot(u[1]) * v[0].hypot(v[1])
+    })
+}
+
+/// [`polygon_distance`] of `p` (m) from an outline given by its [`Edge`]s, taking the short
+/// way when the outline is `convex`: the signed distance from a convex polygon is the
+/// largest of the signed distances from its edges' lines, `max_i n_i · (p − a_i)`, wherever
+/// the foot of `p` on that line lies on the edge itself (inside the polygon always; outside
+/// when `p` is across that edge rather than past a corner), and its gradient is that edge's
+/// outward normal n_i (the support-function form of the distance from a convex set, Boyd &
+/// Vandenberghe, *Convex Optimization*, §8.1); past a corner, the distance from the vertex
+/// at the foot's end of that edge. One product pair per edge instead of the nearest point
+/// and the crossing test. The same distance and gradient as [`polygon_distance`] to
+/// rounding (`tests` below).
+pub fn outline_distance<T: Real>(edges: &[Edge], convex: bool, p: [T; 2]) -> (T, [T; 2]) {
+    if convex && let Some(first) = edges.first() {
+        let (px, py) = (re(p[0]), re(p[1]));
+        let line = |e: &Edge| (px - e.a[0]) * e.normal[0] + (py - e.a[1]) * e.normal[1];
+        // The first largest (strictly larger replaces), chosen without branches in the loop.
+        let (mut s, mut i) = (line(first), 0);
+        for (j, edge) in edges.iter().enumerate().skip(1) {
+            let sj = line(edge);
+            let larger = sj > s;
+            s = if larger { sj } else { s };
+            i = if larger { j } else { i };
+        }
+        let edge = &edges[i];
+        let t = ((px - edge.a[0]) * edge.e[0] + (py - edge.a[1]) * edge.e[1]) * edge.inv_length2;
+        if s <= 0.0 || (0.0..=1.0).contains(&t) {
+            let [nx, ny] = edge.normal;
+            let d = (p[0] - real(edge.a[0])) * real(nx) + (p[1] - real(edge.a[1])) * real(ny);
+            return (d, [real(nx), real(ny)]);
+        }
+        // Past a corner: the nearest point is the vertex at that end of the edge (the
+        // direction from it lies in the corner's normal cone, between this edge's normal
+        // and its neighbour's, which makes this edge's line or its neighbour's the farthest).
+        let v = if t < 0.0 { edge.a } else { edge.b };
+        let (dx, dy) = (p[0] - real(v[0]), p[1] - real(v[1]));
+        let d = (dx * dx + dy * dy).sqrt();
+        return (d, [dx / d, dy / d]);
+    }
+    polygon_distance(edges, p)
 }
 
 /// Signed distance of `p` from a simple polygon's boundary (given by its [`Edge`]s; negative
@@ -590,6 +655,46 @@ mod tests {
                 }
             }
             assert!(answered > 500, "{:?}: {answered}", solid.kind);
+        }
+    }
+
+    /// A convex outline's short way ([`outline_distance`]) gives the full computation's
+    /// distance and gradient (to rounding; the gradient to 1e-9, as the nearest edge is
+    /// found by different arithmetic) inside, across an edge and past a corner, with the
+    /// same derivative in dual numbers (the exact Jacobian's path); and only convex outlines
+    /// are taken for convex.
+    #[test]
+    fn convex_outlines_take_the_nearest_line() {
+        use num_dual::Dual64;
+        let hexagon: Vec<[f64; 2]> =
+            (0..6).map(|k| (k as f64 * std::f64::consts::FRAC_PI_3).sin_cos()).map(|(s, c)| [c, s]).collect();
+        let triangle = [[0.0, 0.0], [1.0, 0.0], [0.2, 0.7]];
+        let cut = [[0.1, 0.0], [0.9, 0.0], [1.0, 0.1], [1.0, 0.6], [0.9, 0.7], [0.1, 0.7], [0.0, 0.6], [0.0, 0.1]];
+        let l_shape = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let straight = [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        assert!(is_convex(&hexagon) && is_convex(&triangle) && is_convex(&cut));
+        // Two edges in line are left to the full computation.
+        assert!(!is_convex(&l_shape) && !is_convex(&straight));
+        let mut seed = 4242_u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for polygon in [&hexagon[..], &triangle, &cut] {
+            let edges = Edge::of(polygon);
+            let (mut inside, mut outside) = (0, 0);
+            for _ in 0..5000 {
+                let p = [2.0 * rnd() - 0.5, 2.0 * rnd() - 0.5];
+                let (d, g) = outline_distance(&edges, true, p);
+                let (d0, g0) = polygon_distance(&edges, p);
+                let close = (d - d0).abs() < 1e-12 && (g[0] - g0[0]).abs() < 1e-9 && (g[1] - g0[1]).abs() < 1e-9;
+                assert!(close, "{polygon:?} at {p:?}: {d} {g:?} against {d0} {g0:?}");
+                let (dx, _) = outline_distance(&edges, true, [Dual64::new(p[0], 1.0), Dual64::from(p[1])]);
+                let (dy, _) = outline_distance(&edges, true, [Dual64::from(p[0]), Dual64::new(p[1], 1.0)]);
+                assert!((dx.eps - g0[0]).abs() < 1e-9 && (dy.eps - g0[1]).abs() < 1e-9, "{polygon:?} at {p:?}");
+                if d0 < 0.0 { inside += 1 } else { outside += 1 }
+            }
+            assert!(inside > 300 && outside > 300, "{polygon:?}: {inside} inside, {outside} outside");
         }
     }
 

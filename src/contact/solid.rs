@@ -19,8 +19,8 @@ pub enum SolidKind {
         /// Its edges in order (each starting at a vertex), with what [`polygon_distance`]
         /// needs of each formed once.
         edges: Vec<Edge>,
-        /// Whether the outline is convex (every turn to the left), which lets
-        /// [`outline_distance`] take the nearest edge's line (see there).
+        /// Whether the outline is strictly convex (every turn to the left, by more than
+        /// 1e-9 rad), which lets [`outline_distance`] take the farthest edge line (see there).
         convex: bool,
         /// Half the thickness, m (> 0).
         half_thickness: f64,

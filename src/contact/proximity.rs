@@ -252,9 +252,7 @@ impl NearSide {
         self.touching = touching_of(&self.samples);
         self.reference = (*dcm_b_a, *r_ab);
     }
-}
 
-impl NearSide {
     /// The side kept at `frames` (of `body` against `other`; `reach`, m, the farthest
     /// any of the body's samples is from its origin), if the body has moved so little in
     /// the other's frame since the side's samples were listed that the samples left out

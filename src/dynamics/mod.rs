@@ -258,14 +258,28 @@ impl<'m> Dynamics<'m> {
         }
         let Scratch { frames, contacts, contacts_at, contact_work, .. } = &mut *scratch;
         fill_frames((0..self.model.bodies.len()).map(|i| BodyMotion::from_state(y, i)), frames);
+        self.find_contacts(set, frames, contact_work, (contacts, contacts_at), &y[..bodies]);
+        contacts.clone()
+    }
+
+    /// The contact points at the bodies' `frames` (through the proximity list if there is
+    /// one) into `contacts`, and the bodies' part of the state they are for, `at`, into
+    /// `contacts_at` (the cache [`Self::contact_points`] reads).
+    fn find_contacts(
+        &self,
+        set: &crate::contact::ContactSet,
+        frames: &[crate::contact::Frame],
+        work: &mut crate::contact::Workspace,
+        (contacts, contacts_at): (&mut Vec<ContactPoint>, &mut Vec<f64>),
+        at: &[f64],
+    ) {
         contacts.clear();
         match &*self.proximity.borrow() {
-            Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, contacts),
-            None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts),
+            Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, work, contacts),
+            None => set.evaluate(frames, &self.contact_memory.borrow(), work, contacts),
         }
         contacts_at.clear();
-        contacts_at.extend_from_slice(&y[..bodies]);
-        contacts.clone()
+        contacts_at.extend_from_slice(at);
     }
 
     /// Rebuilds the proximity list at the accepted state `y` if the bodies have moved beyond
@@ -527,13 +541,13 @@ impl<'m> Dynamics<'m> {
             // Contact forces act at the sample point on both bodies, equal and opposite
             // (crate::contact): P and H hold exactly.
             fill_frames(motions.iter().copied(), frames);
-            contacts.clear();
-            match &*self.proximity.borrow() {
-                Some(near) => set.evaluate_near(frames, &self.contact_memory.borrow(), near, contact_work, contacts),
-                None => set.evaluate(frames, &self.contact_memory.borrow(), contact_work, contacts),
-            }
-            contacts_at.clear();
-            contacts_at.extend_from_slice(&y[..BODY_STATE_LEN * model.bodies.len()]);
+            self.find_contacts(
+                set,
+                frames,
+                contact_work,
+                (contacts, contacts_at),
+                &y[..BODY_STATE_LEN * model.bodies.len()],
+            );
             let mut dissipation = 0.0;
             for p in contacts.iter() {
                 let (a, b) = (p.key.body as usize, p.key.other as usize);

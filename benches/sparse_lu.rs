@@ -55,7 +55,7 @@ fn main() {
     OdeSystem::rhs(&dynamics, 0.0, &y, &mut f);
     let mut newton = GraphNewton::new_exact(&dynamics, &s.model, &dynamics);
     let h_gamma = 1e-3;
-    assert!(newton.prepare(0.0, &y, &f, h_gamma));
+    assert!(newton.prepare(0.0, &y, h_gamma));
     let blocks = newton.twist_blocks(h_gamma);
     let n = 6 * blocks.len();
     let triplets: Vec<Triplet<usize, usize, f64>> = blocks

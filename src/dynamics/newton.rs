@@ -430,7 +430,7 @@ impl<S: OdeSystem + ?Sized> GraphNewton<'_, S> {
 }
 
 impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
-    fn prepare(&mut self, t: f64, y: &[f64], f: &[f64], h_gamma: f64) -> bool {
+    fn prepare(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool {
         for (b, pose) in self.pose.iter_mut().enumerate() {
             let s = &y[B * b..B * (b + 1)];
             pose.q.copy_from_slice(&s[QUAT..QUAT + 4]);
@@ -470,6 +470,10 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             return false;
         }
         self.differenced_count += 1;
+        // The base point of the differences.
+        let mut f = vec![0.0; self.n];
+        self.system.rhs(t, y, &mut f);
+        self.evaluations += 1;
         let mut yp = y.to_vec();
         let mut fp = vec![0.0; self.n];
         for class in &self.colours {

@@ -167,7 +167,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let start = fixed.unwrap_or_else(|| first_step_rule(t0, tf));
     let mut h = limits.first_step.unwrap_or(start).min(fixed.unwrap_or(f64::INFINITY)).min(tf - t0);
     stats.jacobians += 1;
-    if !newton.prepare(t, &y, &yd, newton_h(h)) {
+    if !newton.prepare(t, &y, newton_h(h)) {
         return Err(OdeError::SingularNewton { t, h });
     }
     let mut prepared_h = h;
@@ -308,7 +308,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             } else {
                 fresh_jacobian = true;
                 stats.jacobians += 1;
-                if !newton.prepare(t, &y, yd_fresh(system, t, &y, &mut f_alpha, &mut stats), newton_h(h)) {
+                if !newton.prepare(t, &y, newton_h(h)) {
                     return Err(OdeError::SingularNewton { t, h });
                 }
             }
@@ -502,25 +502,12 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
         if iterations > if fixed.is_some() { 4 } else { FRESH_AFTER_ADAPTIVE } {
             fresh_jacobian = true;
             stats.jacobians += 1;
-            if !newton.prepare(t, &y, yd_fresh(system, t, &y, &mut f_alpha, &mut stats), newton_h(h)) {
+            if !newton.prepare(t, &y, newton_h(h)) {
                 return Err(OdeError::SingularNewton { t, h });
             }
             prepared_h = h;
         }
     }
-}
-
-/// `f(t, y)`, for a Jacobian at the step's end (where the method's ẏ is not f).
-fn yd_fresh<'a, S: OdeSystem + ?Sized>(
-    system: &S,
-    t: f64,
-    y: &[f64],
-    out: &'a mut [f64],
-    stats: &mut Stats,
-) -> &'a [f64] {
-    system.rhs(t, y, out);
-    stats.rhs_evaluations += 1;
-    out
 }
 
 #[cfg(test)]

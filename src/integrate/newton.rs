@@ -7,9 +7,12 @@ use super::step::OdeSystem;
 
 /// Forms and factors `W = I − hγ J(t, y)` and solves with it.
 pub trait NewtonMatrix {
-    /// Forms and factors W at `(t, y)` with `f = f(t, y)` already known. Returns false if W
-    /// is singular.
-    fn prepare(&mut self, t: f64, y: &[f64], f: &[f64], h_gamma: f64) -> bool;
+    /// Forms and factors W at `(t, y)`. Returns false if W is singular. A Jacobian formed by
+    /// differences evaluates `f(t, y)` itself, as its base point (counted in
+    /// [`Self::evaluations`]): the integrators' own `f` at `y` is not always f (SDIRK4's is a
+    /// stage's implied derivative, generalized-α's its own ẏ), and an exact Jacobian needs
+    /// none, so no caller evaluates one for it.
+    fn prepare(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool;
     /// Refactors W for a new `hγ` with the Jacobian kept. Returns false if singular.
     fn refactor(&mut self, h_gamma: f64) -> bool;
     /// Overwrites `b` with `W⁻¹ b`.
@@ -35,8 +38,11 @@ impl<'a, S: OdeSystem + ?Sized> DenseNewton<'a, S> {
 }
 
 impl<S: OdeSystem + ?Sized> NewtonMatrix for DenseNewton<'_, S> {
-    fn prepare(&mut self, t: f64, y: &[f64], f: &[f64], h_gamma: f64) -> bool {
+    fn prepare(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool {
         let n = y.len();
+        let mut f = vec![0.0; n];
+        self.system.rhs(t, y, &mut f);
+        self.evaluations += 1;
         let mut yp = y.to_vec();
         let mut fp = vec![0.0; n];
         for j in 0..n {

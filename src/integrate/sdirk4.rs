@@ -514,8 +514,8 @@ mod tests {
     /// right-hand side: the next step's first stage starts from the last stage's derivative,
     /// not from f evaluated afresh at the corrected state. With every step corrected by a
     /// relative 1e-12, the run takes as many right-hand sides as without (a restart would
-    /// take one more per step) and ends within 1e-8 of it (the corrections' sum, 1e-9, and
-    /// the tolerance's ~1e-7 on a path that may differ by a step).
+    /// take one more per step) and ends within 1e-8 of it (the corrections add up to 1e-12
+    /// per step, and the two paths' steps may differ within the tolerance, 1e-8).
     #[test]
     fn a_small_correction_does_not_restart_the_method() {
         let mut ends = Vec::new();

@@ -180,7 +180,7 @@ pub enum OdeError<E> {
 }
 
 impl Control {
-    /// [`Control::Correct`] as a restart at `t` (the step's end), for the one-step methods;
+    /// [`Control::Correct`] as a restart at `t` (the step's end), for the explicit methods;
     /// every other request as it is.
     pub fn restart_if_corrected(self, t: f64) -> Self {
         match self {
@@ -205,8 +205,9 @@ pub enum Control {
     },
     /// Go on from `y` at the step's end: a small correction of the state the step reached
     /// (locked directions projected back onto their constraints, the momenta restored), the
-    /// right-hand side unchanged. A one-step method restarts there; a method with a history
-    /// (generalized-α's derivative) keeps it.
+    /// right-hand side unchanged. An explicit method restarts there (its first stage is f
+    /// at the state); the implicit ones go on from it with the derivative they hold (SDIRK4's
+    /// last stage's, which only starts its next first stage; generalized-α's history).
     Correct {
         /// The corrected state.
         y: Vec<f64>,

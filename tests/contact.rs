@@ -4,6 +4,7 @@
 mod common;
 
 use common::run;
+use foldsim::math::Vec3;
 use foldsim::observe::Observation;
 use foldsim::scenario::Scenario;
 
@@ -65,7 +66,7 @@ fn impact_with_slide(speed: f64, slide: f64, gap: f64, contact: &str, duration: 
 }
 
 /// The cube's velocity relative to the slab, m/s, N frame.
-fn relative_velocity(o: &Observation) -> foldsim::math::Vec3 {
+fn relative_velocity(o: &Observation) -> Vec3 {
     o.body_v_in_n[1] - o.body_v_in_n[0]
 }
 
@@ -506,7 +507,7 @@ fn proximity_list_finds_every_contact() {
             })
             .collect()
     };
-    let (mut compared, mut with_contact, mut kept) = (0, 0, 0);
+    let (mut compared, mut with_contact, mut kept, mut summed) = (0, 0, 0, 0);
     for lag in [1, 5, 20] {
         for k in lag..obs.len() {
             // The points of the row before as the memory, at their rates then (the impact
@@ -540,14 +541,53 @@ fn proximity_list_finds_every_contact() {
                         "row {k}, list {how} {lag} rows before: the list missed {missed:?} and found {extra:?} beyond the full search"
                     );
                 }
+                summed += usize::from(wrench_is_the_points(set, &now, list, &full));
             }
             compared += 1;
             with_contact += usize::from(!full.is_empty());
         }
     }
-    println!("proximity list: {compared} states compared, {with_contact} with contact, {kept} sides kept at rebuilds");
+    println!(
+        "proximity list: {compared} states compared, {with_contact} with contact, {kept} sides kept at rebuilds, {summed} totals compared"
+    );
     assert!(with_contact > 100);
+    assert!(summed > 100, "the list covered too few states to compare the totals");
     assert!(kept > 0, "no rebuild kept a side: the test does not reach `rebuild`'s reuse");
+}
+
+/// A right-hand side's contact totals through the list `near` at `frames`
+/// (`ContactSet::wrench_near`) against the listed `points` (a full search's) added up: each
+/// body's force and torque, and the power dissipated. The two add the same forces at the same
+/// places in another order and another frame, so they agree to rounding: 1e-12 of the sum of
+/// the forces' sizes (and of their moments' sizes about both centres), plus 1e-300 for none.
+/// False when the list does not cover `frames` (nothing to compare).
+fn wrench_is_the_points(
+    set: &foldsim::contact::ContactSet,
+    frames: &[foldsim::contact::Frame],
+    near: &foldsim::contact::proximity::Proximity,
+    points: &[foldsim::contact::ContactPoint],
+) -> bool {
+    use foldsim::contact::wrench::add_point;
+    let nb = frames.len();
+    let (mut f, mut t) = (vec![Vec3::zeros(); nb], vec![Vec3::zeros(); nb]);
+    let Some(d) = set.wrench_near(frames, near, &mut Default::default(), (&mut f, &mut t)) else { return false };
+    let (mut f0, mut t0) = (vec![Vec3::zeros(); nb], vec![Vec3::zeros(); nb]);
+    let (mut force_scale, mut torque_scale, mut d0, mut d_scale) = (1e-300, 1e-300, 0.0, 1e-300);
+    for p in points {
+        add_point(p, frames, &mut f0, &mut t0);
+        d0 += p.dissipation;
+        d_scale += p.dissipation.abs();
+        force_scale += p.force_in_n.norm();
+        for b in [p.key.body, p.key.other] {
+            torque_scale += (p.point_in_n - frames[b as usize].position_in_n).norm() * p.force_in_n.norm();
+        }
+    }
+    for i in 0..nb {
+        assert!((f[i] - f0[i]).norm() <= 1e-12 * force_scale, "body {i}: force {} against {}", f[i], f0[i]);
+        assert!((t[i] - t0[i]).norm() <= 1e-12 * torque_scale, "body {i}: torque {} against {}", t[i], t0[i]);
+    }
+    assert!((d - d0).abs() <= 1e-12 * d_scale, "dissipated {d} against {d0}");
+    true
 }
 
 /// The cube lands on a cylinder (the hub shape, axis z, its flat top up) rather than a box:

@@ -8,6 +8,7 @@ pub mod episodes;
 pub mod law;
 pub mod proximity;
 pub mod solid;
+pub mod wrench;
 
 use crate::math::{Mat3, Real, Vec3, re, real};
 use law::ContactLaw;
@@ -185,6 +186,8 @@ pub struct Workspace {
     bvh: BvhWorkspace,
     /// Per body, its motion since the proximity list's reference.
     motion: Vec<f64>,
+    /// A side's points on a face ([`wrench`]).
+    faced: Vec<wrench::Faced>,
 }
 
 impl std::fmt::Debug for Workspace {
@@ -479,6 +482,7 @@ impl ContactSet {
 
     /// The law at penetration `depth` (m) along B's outward normal `normal_in_b` for a
     /// sample moving at `velocity_in_b` against B (see [`ContactSet::local_force`]).
+    #[inline]
     fn law_at<T: Real>(
         &self,
         depth: T,

@@ -62,12 +62,64 @@ impl ContactSet {
         ws: &mut Workspace,
         out: &mut Vec<ContactPoint>,
     ) {
-        if !near.motion(frames, &mut ws.motion) {
-            return self.evaluate(frames, memory, ws, out);
+        let mut points = Points { set: self, frames, out, side: None };
+        if !near.scan(frames, &mut ws.motion, &mut points) {
+            self.evaluate(frames, memory, ws, out);
         }
-        for pair in &near.pairs {
+    }
+}
+
+/// What a scan of the list ([`Proximity::scan`]) does with the samples it cannot skip.
+pub(crate) trait Visit {
+    /// A side begins: the samples of `bodies.0` (pose `frames.0`) in the solid of
+    /// `bodies.1` (`frames.1`), the body's attitude in the other's frame and its origin
+    /// there (m).
+    fn begin(&mut self, bodies: (usize, usize), frames: (&Frame, &Frame), pose: (Mat3, Vec3));
+    /// A sample of the side begun, with a bound on its lateral distance in the other's solid
+    /// now (m; see [`super::solid::Solid::face_distance`]).
+    fn sample(&mut self, sample: &NearSample, lateral_bound: f64);
+    /// The side begun is done.
+    fn end(&mut self);
+}
+
+/// The points of a scan, in order ([`ContactSet::evaluate_near`]).
+struct Points<'a> {
+    set: &'a ContactSet,
+    frames: &'a [Frame],
+    out: &'a mut Vec<ContactPoint>,
+    /// The side begun: (body, other) and the body's pose in the other's frame.
+    side: Option<((usize, usize), (Mat3, Vec3))>,
+}
+
+impl Visit for Points<'_> {
+    fn begin(&mut self, bodies: (usize, usize), _: (&Frame, &Frame), pose: (Mat3, Vec3)) {
+        self.side = Some((bodies, pose));
+    }
+
+    fn sample(&mut self, s: &NearSample, lateral_bound: f64) {
+        let Some(((body, other), (dcm_b_a, r_ab))) = &self.side else { return };
+        let key = PointKey { body: *body as u32, other: *other as u32, sample: s.index };
+        let impact = || (!s.impact.is_nan()).then_some(s.impact);
+        let frames = (&self.frames[*body], &self.frames[*other]);
+        self.set.probe_sample(key, frames, (dcm_b_a, r_ab), lateral_bound, impact, self.out);
+    }
+
+    fn end(&mut self) {
+        self.side = None;
+    }
+}
+
+impl Proximity {
+    /// Visits, side by side, the samples that may touch at the poses `frames` (in the full
+    /// search's order), each with its lateral bound; false, visiting nothing, when the
+    /// bodies have moved beyond the list's reach (`motion` is scratch).
+    pub(crate) fn scan(&self, frames: &[Frame], motion: &mut Vec<f64>, visit: &mut impl Visit) -> bool {
+        if !self.motion(frames, motion) {
+            return false;
+        }
+        for pair in &self.pairs {
             // The two bodies' motions relative to the first body bound their relative one.
-            if ws.motion[pair.a] + ws.motion[pair.b] + SLACK < pair.gap {
+            if motion[pair.a] + motion[pair.b] + SLACK < pair.gap {
                 continue;
             }
             for (body, other, side) in [(pair.a, pair.b, &pair.a_in_b), (pair.b, pair.a, &pair.b_in_a)] {
@@ -81,6 +133,7 @@ impl ContactSet {
                 if side.gap >= shift + chord * side.reach + SLACK {
                     continue;
                 }
+                visit.begin((body, other), (fa, fb), (dcm_b_a, r_ab));
                 let runs = side.samples.chunks(RUN).zip(side.bounds.chunks(RUN)).zip(&side.runs);
                 for ((samples, bounds), &[least, farthest]) in runs {
                     if least >= shift + chord * farthest + SLACK {
@@ -90,14 +143,13 @@ impl ContactSet {
                         if gap >= shift + chord * r + SLACK {
                             continue;
                         }
-                        let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
-                        let impact = || (!s.impact.is_nan()).then_some(s.impact);
-                        let lateral = s.lateral + shift + chord * s.reach + SLACK;
-                        self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), lateral, impact, out);
+                        visit.sample(s, s.lateral + shift + chord * s.reach + SLACK);
                     }
                 }
+                visit.end();
             }
         }
+        true
     }
 }
 

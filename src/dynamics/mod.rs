@@ -41,11 +41,10 @@ struct Scratch {
     /// Contact: the bodies' frames, the points found, the search's work space.
     frames: Vec<crate::contact::Frame>,
     contacts: Vec<ContactPoint>,
-    /// The bodies' part of the state `contacts` were found at (by a right-hand side or
-    /// [`Dynamics::contact_points`]; empty: none, or the contact memory changed since): an
-    /// accepted step's end was its last stage's state, whose points the crossing check and
-    /// the acceptance then take rather than probing again (3 % of the 6 × 3 thick flasher's
-    /// instructions).
+    /// The bodies' part of the state `contacts` were found at (by
+    /// [`Dynamics::contact_points`], or a right-hand side the proximity list did not cover;
+    /// empty: none, or the contact memory changed since): the crossing check, the acceptance
+    /// and the Jacobian at one state take its points rather than probing again.
     contacts_at: Vec<f64>,
     contact_work: crate::contact::Workspace,
 }
@@ -541,22 +540,22 @@ impl<'m> Dynamics<'m> {
             // Contact forces act at the sample point on both bodies, equal and opposite
             // (crate::contact): P and H hold exactly.
             fill_frames(motions.iter().copied(), frames);
-            self.find_contacts(
-                set,
-                frames,
-                contact_work,
-                (contacts, contacts_at),
-                &y[..BODY_STATE_LEN * model.bodies.len()],
-            );
-            let mut dissipation = 0.0;
-            for p in contacts.iter() {
-                let (a, b) = (p.key.body as usize, p.key.other as usize);
-                force_in_n[a] += p.force_in_n;
-                torque_in_n[a] += (p.point_in_n - frames[a].position_in_n).cross(&p.force_in_n);
-                force_in_n[b] -= p.force_in_n;
-                torque_in_n[b] -= (p.point_in_n - frames[b].position_in_n).cross(&p.force_in_n);
-                dissipation += p.dissipation;
-            }
+            // Summed as found where the proximity list covers the state (an accepted step or
+            // a Jacobian lists the points it needs), else listed (and kept for those).
+            let summed = match &*self.proximity.borrow() {
+                Some(near) => set.wrench_near(frames, near, contact_work, (force_in_n, torque_in_n)),
+                None => None,
+            };
+            let dissipation = summed.unwrap_or_else(|| {
+                let at = &y[..BODY_STATE_LEN * model.bodies.len()];
+                self.find_contacts(set, frames, contact_work, (contacts, contacts_at), at);
+                let mut dissipation = 0.0;
+                for p in contacts.iter() {
+                    crate::contact::wrench::add_point(p, frames, force_in_n, torque_in_n);
+                    dissipation += p.dissipation;
+                }
+                dissipation
+            });
             dydt[diss0 + model.hinges.len()] = dissipation;
         }
 

@@ -212,3 +212,36 @@ impl<'a> Visit for Sums<'a> {
         self.torque_in_n[b] -= moment_about_b;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The face's distance as the sums form it is `Solid::face_distance`'s to the bit (so
+    /// the sums and the list find the same samples in contact, even at a gap of zero): a
+    /// tilted plate (its solid frame turned against its body frame), points about its faces
+    /// in every direction, each compared wherever the face settles it.
+    #[test]
+    fn the_face_distance_is_the_solids_to_the_bit() {
+        let q = nalgebra::Vector4::new(0.9, 0.3, -0.2, 0.1).normalize();
+        let turn = crate::math::dcm_from_quat(q.as_slice());
+        let vertices = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.3, 0.1, 0.0), Vec3::new(0.4, 0.9, 0.0)]
+            .map(|v| turn * v + Vec3::new(0.2, -0.1, 0.05));
+        let solid = Solid::plate(&vertices, 0.01, 0.01).unwrap();
+        let (origin, normal, h) = faces(&solid).unwrap();
+        let mut compared = 0;
+        for i in 0..2000 {
+            let u = |k: usize| ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0;
+            // Within the outline's box, heights across both faces.
+            let p = turn * Vec3::new(1.3 * u(1), 0.9 * u(2), 0.012 * (2.0 * u(3) - 1.0)) + Vec3::new(0.2, -0.1, 0.05);
+            let (_, lateral) = solid.distance_and_lateral(&p);
+            let Some((d, n)) = solid.face_distance(&p, lateral) else { continue };
+            let q = p - origin;
+            let z = normal.x * q.x + normal.y * q.y + normal.z * q.z;
+            assert_eq!(z.abs() - h, d, "point {p:?}");
+            assert_eq!(if z < 0.0 { -normal } else { normal }, n, "point {p:?}");
+            compared += 1;
+        }
+        assert!(compared > 500, "only {compared} points settled by a face");
+    }
+}

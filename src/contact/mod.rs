@@ -188,6 +188,8 @@ pub struct Workspace {
     motion: Vec<f64>,
     /// A side's points on a face ([`wrench`]).
     faced: Vec<wrench::Faced>,
+    /// A sample's points when probed in full, as it is summed ([`wrench`]).
+    probed: Vec<ContactPoint>,
 }
 
 impl std::fmt::Debug for Workspace {

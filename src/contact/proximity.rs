@@ -97,15 +97,31 @@ impl Visit for Points<'_> {
     }
 
     fn sample(&mut self, s: &NearSample, lateral_bound: f64) {
-        let Some(((body, other), (dcm_b_a, r_ab))) = &self.side else { return };
-        let key = PointKey { body: *body as u32, other: *other as u32, sample: s.index };
-        let impact = || (!s.impact.is_nan()).then_some(s.impact);
-        let frames = (&self.frames[*body], &self.frames[*other]);
-        self.set.probe_sample(key, frames, (dcm_b_a, r_ab), lateral_bound, impact, self.out);
+        let Some((bodies, (dcm_b_a, r_ab))) = &self.side else { return };
+        self.set.probe_near(s, *bodies, self.frames, (dcm_b_a, r_ab), lateral_bound, self.out);
     }
 
     fn end(&mut self) {
         self.side = None;
+    }
+}
+
+impl ContactSet {
+    /// The near sample `s` of the side `(body, other)` probed as [`ContactSet::probe_sample`]
+    /// does, at the poses `frames` with `body`'s pose in `other`'s frame `(dcm_b_a, r_ab)`
+    /// (m), its points appended to `out`.
+    pub(super) fn probe_near(
+        &self,
+        s: &NearSample,
+        (body, other): (usize, usize),
+        frames: &[Frame],
+        pose: (&Mat3, &Vec3),
+        lateral_bound: f64,
+        out: &mut Vec<ContactPoint>,
+    ) {
+        let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
+        let impact = || (!s.impact.is_nan()).then_some(s.impact);
+        self.probe_sample(key, (&frames[body], &frames[other]), pose, lateral_bound, impact, out);
     }
 }
 

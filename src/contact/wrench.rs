@@ -27,7 +27,7 @@
 
 use super::proximity::{NearSample, Proximity, Visit};
 use super::solid::{Solid, SolidKind};
-use super::{ContactPoint, ContactSet, Frame, PointKey, Workspace};
+use super::{ContactPoint, ContactSet, Frame, Workspace};
 use crate::math::{Mat3, Vec3};
 
 impl ContactSet {
@@ -49,11 +49,12 @@ impl ContactSet {
             torque_in_n,
             dissipation: 0.0,
             side: None,
-            points: Vec::new(),
+            points: std::mem::take(&mut ws.probed),
             faced: std::mem::take(&mut ws.faced),
         };
         let scanned = near.scan(frames, &mut ws.motion, &mut sums);
         ws.faced = sums.faced;
+        ws.probed = sums.points;
         scanned.then_some(sums.dissipation)
     }
 }
@@ -159,7 +160,6 @@ impl<'a> Visit for Sums<'a> {
     fn sample(&mut self, s: &NearSample, lateral_bound: f64) {
         let Some(side) = self.side.as_mut() else { return };
         let sample = &side.samples[s.index as usize];
-        let impact = (!s.impact.is_nan()).then_some(s.impact);
         if let Some((origin, normal, h)) = side.face
             && lateral_bound < 0.0
         {
@@ -179,11 +179,8 @@ impl<'a> Visit for Sums<'a> {
             }
         }
         // Any other sample: probed and added as a listed point.
-        let (a, b) = side.bodies;
-        let key = PointKey { body: a as u32, other: b as u32, sample: s.index };
         self.points.clear();
-        let frames = (&self.frames[a], &self.frames[b]);
-        self.set.probe_sample(key, frames, (&side.dcm_b_a, &side.r_ab), lateral_bound, || impact, &mut self.points);
+        self.set.probe_near(s, side.bodies, self.frames, (&side.dcm_b_a, &side.r_ab), lateral_bound, &mut self.points);
         for p in &self.points {
             add_point(p, self.frames, self.force_in_n, self.torque_in_n);
             self.dissipation += p.dissipation;

@@ -489,11 +489,40 @@ fn animation_frames_show_the_touch() {
 /// points in contact at the row before (the memory the lists keep for their probes).
 #[test]
 fn proximity_list_finds_every_contact() {
+    let s = common::scenario("examples/contact-zfold.toml");
+    let (compared, with_contact, kept, summed) = lists_against_full_search(&s, &[1, 5, 20]);
+    println!(
+        "proximity list: {compared} states compared, {with_contact} with contact, {kept} sides kept at rebuilds, {summed} totals compared"
+    );
+    assert!(with_contact > 100);
+    assert!(summed > 100, "the list covered too few states to compare the totals");
+    assert!(kept > 0, "no rebuild kept a side: the test does not reach `rebuild`'s reuse");
+}
+
+/// The same along the thick flasher example's first 0.02 s (its stowed wrap: every layer on
+/// the next, the innermost on the hub prism's side walls, where a summing right-hand side
+/// takes each sample's distance from the wall the list noted: `contact::wall`). A 0.1 %
+/// error in a wall point's penetration fails the totals' comparison (checked).
+#[test]
+fn proximity_list_and_sums_in_the_stowed_wrap() {
+    let mut s = common::scenario("examples/flasher-thick.toml");
+    (s.settings.duration, s.settings.output_step) = (0.02, 0.001);
+    let (compared, with_contact, _, summed) = lists_against_full_search(&s, &[1, 5]);
+    println!("stowed wrap: {compared} states compared, {with_contact} with contact, {summed} totals compared");
+    assert!(with_contact >= 30 && summed >= 30, "{with_contact} with contact, {summed} totals compared");
+}
+
+/// Compares, at every output row of `s`'s run and for each lag in `lags`, the points a full
+/// search finds with those found through a list built `lag` rows before (and through one
+/// brought up to date at every row since), exactly, and the right-hand side's totals through
+/// each list with those points added up ([`wrench_is_the_points`]); panics on a difference.
+/// Returns the states compared, those with contact, the sides kept at rebuilds and the
+/// totals compared.
+fn lists_against_full_search(s: &Scenario, lags: &[usize]) -> (usize, usize, usize, usize) {
     use foldsim::contact::proximity::Proximity;
     use foldsim::contact::{ContactMemory, Frame};
-    let s = common::scenario("examples/contact-zfold.toml");
     let set = s.model.contact.as_ref().unwrap();
-    let (_, obs, _) = run(&s);
+    let (_, obs, _) = run(s);
     let frames = |o: &Observation| -> Vec<Frame> {
         (0..s.model.bodies.len())
             .map(|i| {
@@ -508,7 +537,7 @@ fn proximity_list_finds_every_contact() {
             .collect()
     };
     let (mut compared, mut with_contact, mut kept, mut summed) = (0, 0, 0, 0);
-    for lag in [1, 5, 20] {
+    for &lag in lags {
         for k in lag..obs.len() {
             // The points of the row before as the memory, at their rates then (the impact
             // speeds the lists must carry to their probes).
@@ -547,12 +576,7 @@ fn proximity_list_finds_every_contact() {
             with_contact += usize::from(!full.is_empty());
         }
     }
-    println!(
-        "proximity list: {compared} states compared, {with_contact} with contact, {kept} sides kept at rebuilds, {summed} totals compared"
-    );
-    assert!(with_contact > 100);
-    assert!(summed > 100, "the list covered too few states to compare the totals");
-    assert!(kept > 0, "no rebuild kept a side: the test does not reach `rebuild`'s reuse");
+    (compared, with_contact, kept, summed)
 }
 
 /// A right-hand side's contact totals through the list `near` at `frames`

@@ -8,6 +8,7 @@ pub mod episodes;
 pub mod law;
 pub mod proximity;
 pub mod solid;
+pub mod wall;
 pub mod wrench;
 
 use crate::math::{Mat3, Real, Vec3, re, real};
@@ -186,7 +187,7 @@ pub struct Workspace {
     bvh: BvhWorkspace,
     /// Per body, its motion since the proximity list's reference.
     motion: Vec<f64>,
-    /// A side's points on a face ([`wrench`]).
+    /// A side's points on a face or a wall ([`wrench`]).
     faced: Vec<wrench::Faced>,
     /// A sample's points when probed in full, as it is summed ([`wrench`]).
     probed: Vec<ContactPoint>,
@@ -300,15 +301,19 @@ impl ContactSet {
                     continue;
                 }
                 let s = &sa.samples[k];
-                let (d, lateral) = sb.distance_and_lateral(&(dcm_b_a * s.point_in_body + r_ab));
+                let p = dcm_b_a * s.point_in_body + r_ab;
+                let (d, lateral) = sb.distance_and_lateral(&p);
                 let gap = d - s.radius;
                 if gap < cap {
+                    let wall = sb.wall_near(&p, (d, lateral), s.radius);
                     near.push(NearSample {
                         index: k as u32,
+                        wall: wall.index,
                         gap,
                         lateral,
                         reach: s.point_in_body.norm(),
                         impact: f64::NAN,
+                        wall_margin: wall.margin,
                     });
                 }
             }

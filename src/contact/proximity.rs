@@ -31,6 +31,7 @@
 //! state probes about the samples within a step's reach of the other body (on the 5 × 2
 //! thick flasher 680 per right-hand side against 5,000, of which 262 touch).
 
+use super::wall::NO_WALL;
 use super::{ContactMemory, ContactPoint, ContactSet, Frame, PointKey, Workspace};
 use crate::math::{Mat3, Vec3};
 
@@ -75,9 +76,11 @@ pub(crate) trait Visit {
     /// `bodies.1` (`frames.1`), the body's attitude in the other's frame and its origin
     /// there (m).
     fn begin(&mut self, bodies: (usize, usize), frames: (&Frame, &Frame), pose: (Mat3, Vec3));
-    /// A sample of the side begun, with a bound on its lateral distance in the other's solid
-    /// now (m; see [`super::solid::Solid::face_distance`]).
-    fn sample(&mut self, sample: &NearSample, lateral_bound: f64);
+    /// A sample of the side begun, with a bound on how far it has moved in the other's frame
+    /// since the list's reference (m): its lateral distance in the other's solid now is at
+    /// most `sample.lateral` plus that (see [`super::solid::Solid::face_distance`]), and its
+    /// wall ([`NearSample::wall`]) still answers it while that is less than its margin.
+    fn sample(&mut self, sample: &NearSample, moved: f64);
     /// The side begun is done.
     fn end(&mut self);
 }
@@ -96,9 +99,9 @@ impl Visit for Points<'_> {
         self.side = Some((bodies, pose));
     }
 
-    fn sample(&mut self, s: &NearSample, lateral_bound: f64) {
+    fn sample(&mut self, s: &NearSample, moved: f64) {
         let Some((bodies, (dcm_b_a, r_ab))) = &self.side else { return };
-        self.set.probe_near(s, *bodies, self.frames, (dcm_b_a, r_ab), lateral_bound, self.out);
+        self.set.probe_near(s, *bodies, self.frames, (dcm_b_a, r_ab), s.lateral + moved, self.out);
     }
 
     fn end(&mut self) {
@@ -159,7 +162,7 @@ impl Proximity {
                         if gap >= shift + chord * r + SLACK {
                             continue;
                         }
-                        visit.sample(s, s.lateral + shift + chord * s.reach + SLACK);
+                        visit.sample(s, shift + chord * s.reach + SLACK);
                     }
                 }
                 visit.end();
@@ -188,6 +191,12 @@ pub struct NearSample {
     /// needs no look-up in the memory's map (a quarter of the stowed thick starshade's
     /// right-hand side went to those look-ups).
     pub impact: f64,
+    /// The other solid's wall that answered its lateral distance at the reference
+    /// ([`super::wall::Wall`]; [`super::wall::NO_WALL`] for none).
+    pub wall: u32,
+    /// How far it may move since the reference with that wall still the answer, m (less its
+    /// motion since an older reference, where its gap was kept as a bound).
+    pub wall_margin: f64,
 }
 
 /// One body's samples that may enter the other's solid.
@@ -307,10 +316,20 @@ impl NearSide {
             if bound > FAR * moved {
                 s.gap = bound;
                 s.lateral += moved;
+                s.wall_margin -= moved;
             } else {
                 let sample = &samples[s.index as usize];
-                let (d, lateral) = solid.distance_and_lateral(&(dcm_b_a * sample.point_in_body + r_ab));
+                let p = dcm_b_a * sample.point_in_body + r_ab;
+                let (d, lateral) = solid.distance_and_lateral(&p);
                 (s.gap, s.lateral) = (d - sample.radius, lateral);
+                // The wall noted kept while it has room for more motion than this (as a gap
+                // is), else noted again.
+                if s.wall != NO_WALL && s.wall_margin - moved > FAR * moved {
+                    s.wall_margin -= moved;
+                } else {
+                    let wall = solid.wall_near(&p, (d, lateral), sample.radius);
+                    (s.wall, s.wall_margin) = (wall.index, wall.margin);
+                }
             }
             packed[0] = s.gap;
             least = least.min(s.gap);

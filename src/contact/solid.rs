@@ -387,6 +387,8 @@ pub struct Edge {
     e: [f64; 2],
     /// `1 / |b − a|²`, 1/m².
     inv_length2: f64,
+    /// `|b − a|`, m.
+    length: f64,
     /// The outward unit normal `(e_y, −e_x) / |e|` (the outline counter-clockwise).
     normal: [f64; 2],
     /// `(b_x − a_x) / (b_y − a_y)` (infinite for an edge along x, where the crossing test
@@ -408,11 +410,34 @@ impl Edge {
                     b,
                     e,
                     inv_length2: 1.0 / (e[0] * e[0] + e[1] * e[1]),
+                    length: l,
                     normal: [e[1] / l, -e[0] / l],
                     slope_x_per_y: e[0] / e[1],
                 }
             })
             .collect()
+    }
+
+    /// The signed distance of `p` (m, the outline's plane) from the edge's line, positive
+    /// outside: `n · (p − a)`.
+    #[inline]
+    pub fn line(&self, p: [f64; 2]) -> f64 {
+        (p[0] - self.a[0]) * self.normal[0] + (p[1] - self.a[1]) * self.normal[1]
+    }
+
+    /// Where the foot of `p` (m) on the edge's line lies: 0 at its start, 1 at its end.
+    pub fn along(&self, p: [f64; 2]) -> f64 {
+        ((p[0] - self.a[0]) * self.e[0] + (p[1] - self.a[1]) * self.e[1]) * self.inv_length2
+    }
+
+    /// Its length, m.
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// Its outward unit normal.
+    pub fn normal(&self) -> [f64; 2] {
+        self.normal
     }
 }
 
@@ -441,17 +466,16 @@ fn is_convex(polygon: &[[f64; 2]]) -> bool {
 pub fn outline_distance<T: Real>(edges: &[Edge], convex: bool, p: [T; 2]) -> (T, [T; 2]) {
     if convex && let Some(first) = edges.first() {
         let (px, py) = (re(p[0]), re(p[1]));
-        let line = |e: &Edge| (px - e.a[0]) * e.normal[0] + (py - e.a[1]) * e.normal[1];
         // The first largest (strictly larger replaces), chosen without branches in the loop.
-        let (mut s, mut i) = (line(first), 0);
+        let (mut s, mut i) = (first.line([px, py]), 0);
         for (j, edge) in edges.iter().enumerate().skip(1) {
-            let sj = line(edge);
+            let sj = edge.line([px, py]);
             let larger = sj > s;
             s = if larger { sj } else { s };
             i = if larger { j } else { i };
         }
         let edge = &edges[i];
-        let t = ((px - edge.a[0]) * edge.e[0] + (py - edge.a[1]) * edge.e[1]) * edge.inv_length2;
+        let t = edge.along([px, py]);
         if s <= 0.0 || (0.0..=1.0).contains(&t) {
             let [nx, ny] = edge.normal;
             let d = (p[0] - real(edge.a[0])) * real(nx) + (p[1] - real(edge.a[1])) * real(ny);

@@ -10,8 +10,10 @@
 //! the distance is the face's (`Solid::face_distance`), the normal one of the face's two,
 //! and the sample's velocity against the other body an affine function of its place there:
 //! each such point costs its place, its penetration, the law and two sums, not a listed
-//! point with its energy and its force and normal turned into the inertial frame. Every
-//! other sample is probed as for the list and added the same way.
+//! point with its energy and its force and normal turned into the inertial frame. A sample
+//! against a convex prism's side wall (the stowed wrap's inner layer on the hub) is summed
+//! the same way, its distance that wall's ([`super::wall`]). Every other sample is probed as
+//! for the list and added the same way.
 //!
 //! The totals are those of the listed points to rounding: the same samples are in contact
 //! (the penetration is computed with the same operations, to the bit), and each point's
@@ -79,12 +81,13 @@ struct Sums<'a> {
     side: Option<Side<'a>>,
     /// Scratch for a sample probed as a listed point.
     points: Vec<ContactPoint>,
-    /// The side's samples in contact with a face, for [`Sums::end`].
+    /// The side's samples in contact with a face or a wall, for [`Sums::end`].
     faced: Vec<Faced>,
 }
 
-/// A sample in contact with a face of the other body's solid: its centre (m), the face's
-/// outward normal (B frame), its penetration (m) and its impact speed (m/s, NaN for none).
+/// A sample in contact with a face or a side wall of the other body's solid: its centre
+/// (m), the face's or wall's outward normal (B frame), its penetration (m) and its impact
+/// speed (m/s, NaN for none).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Faced {
     p: Vec3,
@@ -102,6 +105,8 @@ struct Side<'a> {
     r_ab: Vec3,
     /// A's samples.
     samples: &'a [super::solid::Sample],
+    /// B's solid.
+    solid: &'a Solid,
     /// B's solid, when it has faces (a prism or a cylinder): its solid frame's origin in B
     /// (m), the third row of `dcm_s_b` (B's face normal), and its half thickness (m).
     face: Option<(Vec3, Vec3, f64)>,
@@ -133,6 +138,7 @@ impl<'a> Side<'a> {
             dcm_b_a: pose.0,
             r_ab: pose.1,
             samples: &sa.samples,
+            solid: sb,
             face: faces(sb),
             v0: dcm_b_n * (fa.velocity_in_n - fb.velocity_in_n + fa.omega_in_n.cross(&rel)),
             omega: dcm_b_n * (fa.omega_in_n - fb.omega_in_n),
@@ -157,9 +163,10 @@ impl<'a> Visit for Sums<'a> {
         self.side = Side::new(self.set, bodies, frames, pose);
     }
 
-    fn sample(&mut self, s: &NearSample, lateral_bound: f64) {
+    fn sample(&mut self, s: &NearSample, moved: f64) {
         let Some(side) = self.side.as_mut() else { return };
         let sample = &side.samples[s.index as usize];
+        let lateral_bound = s.lateral + moved;
         if let Some((origin, normal, h)) = side.face
             && lateral_bound < 0.0
         {
@@ -178,6 +185,17 @@ impl<'a> Visit for Sums<'a> {
                 return;
             }
         }
+        // A sample whose wall still answers it: that wall's distance, or the face's.
+        if moved < s.wall_margin {
+            let p = side.dcm_b_a * sample.point_in_body + side.r_ab;
+            if let Some((d, normal)) = side.solid.wall_distance(&p, s.wall) {
+                let depth = sample.radius - d;
+                if depth > 0.0 {
+                    self.faced.push(Faced { p, normal, depth, impact: s.impact });
+                }
+                return;
+            }
+        }
         // Any other sample: probed and added as a listed point.
         self.points.clear();
         self.set.probe_near(s, side.bodies, self.frames, (&side.dcm_b_a, &side.r_ab), lateral_bound, &mut self.points);
@@ -189,7 +207,7 @@ impl<'a> Visit for Sums<'a> {
 
     fn end(&mut self) {
         let Some(mut side) = self.side.take() else { return };
-        // The law at the face points, in one tight loop (the square roots and divisions of
+        // The law at the face and wall points, in one tight loop (the square roots and divisions of
         // one point overlap the next's).
         for f in self.faced.drain(..) {
             let v = side.v0 + side.omega.cross(&f.p);

@@ -374,7 +374,8 @@ impl ContactSet {
                     continue;
                 }
                 let key = PointKey { body: body as u32, other: other as u32, sample: k as u32 };
-                self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), f64::INFINITY, || memory.get(&key).copied(), out);
+                let unknown = (f64::INFINITY, wall::NO_WALL);
+                self.probe_sample(key, (fa, fb), (&dcm_b_a, &r_ab), unknown, || memory.get(&key).copied(), out);
             }
         }
     }
@@ -382,14 +383,15 @@ impl ContactSet {
     /// Sample `key.sample` of `key.body` against `key.other`'s solid (see [`Self::probe`];
     /// not a crease sample), with `impact` its impact speed if it was in contact at the last
     /// accepted state (m/s; asked only of a sample that penetrates, as most probed do not)
-    /// and `lateral_bound` a bound on its lateral distance in the solid (m, ∞ for none; see
-    /// [`Solid::face_distance`]).
+    /// and `(lateral_bound, wall)` a bound on its lateral distance in the solid (m, ∞ for
+    /// none; see [`Solid::face_distance`]) and the wall that answers it ([`wall::NO_WALL`] for
+    /// none known; see [`Solid::wall_distance`]).
     pub(crate) fn probe_sample(
         &self,
         key: PointKey,
         (fa, fb): (&Frame, &Frame),
         (dcm_b_a, r_ab): (&Mat3, &Vec3),
-        lateral_bound: f64,
+        known: (f64, u32),
         impact: impl FnOnce() -> Option<f64>,
         out: &mut Vec<ContactPoint>,
     ) {
@@ -402,7 +404,7 @@ impl ContactSet {
         if q.max() > s.radius {
             return;
         }
-        let Some(f) = self.point_force_at(s, sb, fa, fb, &p, lateral_bound, impact) else { return };
+        let Some(f) = self.point_force_at(s, sb, fa, fb, &p, known, impact) else { return };
         out.push(ContactPoint {
             key,
             point_in_n: f.point_in_n,
@@ -428,12 +430,12 @@ impl ContactSet {
         impact_speed: Option<f64>,
     ) -> Option<PointForce<f64>> {
         let point_in_b = fa.point_in_frame_of(&sample.point_in_body, fb);
-        self.point_force_at(sample, solid, fa, fb, &point_in_b, f64::INFINITY, || impact_speed)
+        self.point_force_at(sample, solid, fa, fb, &point_in_b, (f64::INFINITY, wall::NO_WALL), || impact_speed)
     }
 
     /// [`ContactSet::point_force`] with the sample's centre in `fb`'s body frame given (m),
-    /// and a bound on its lateral distance in `solid` (m; see [`Solid::face_distance`], ∞ for
-    /// none).
+    /// a bound on its lateral distance in `solid` (m; see [`Solid::face_distance`], ∞ for
+    /// none) and the wall that answers it (see [`ContactSet::probe_sample`]).
     #[allow(clippy::too_many_arguments)]
     fn point_force_at(
         &self,
@@ -442,11 +444,13 @@ impl ContactSet {
         fa: &Frame,
         fb: &Frame,
         point_in_b: &Vec3,
-        lateral_bound: f64,
+        (lateral_bound, wall): (f64, u32),
         impact_speed: impl FnOnce() -> Option<f64>,
     ) -> Option<PointForce<f64>> {
-        let (d, normal_in_b) =
-            solid.face_distance(point_in_b, lateral_bound).unwrap_or_else(|| solid.signed_distance(point_in_b));
+        let (d, normal_in_b) = solid
+            .face_distance(point_in_b, lateral_bound)
+            .or_else(|| (wall != wall::NO_WALL).then(|| solid.wall_distance(point_in_b, wall)).flatten())
+            .unwrap_or_else(|| solid.signed_distance(point_in_b));
         let depth = sample.radius - d;
         if depth <= 0.0 {
             return None;

@@ -101,7 +101,7 @@ impl Visit for Points<'_> {
 
     fn sample(&mut self, s: &NearSample, moved: f64) {
         let Some((bodies, (dcm_b_a, r_ab))) = &self.side else { return };
-        self.set.probe_near(s, *bodies, self.frames, (dcm_b_a, r_ab), s.lateral + moved, self.out);
+        self.set.probe_near(s, *bodies, self.frames, (dcm_b_a, r_ab), moved, self.out);
     }
 
     fn end(&mut self) {
@@ -112,19 +112,21 @@ impl Visit for Points<'_> {
 impl ContactSet {
     /// The near sample `s` of the side `(body, other)` probed as [`ContactSet::probe_sample`]
     /// does, at the poses `frames` with `body`'s pose in `other`'s frame `(dcm_b_a, r_ab)`
-    /// (m), its points appended to `out`.
+    /// (m), having moved at most `moved` (m) there since the list's reference (its lateral
+    /// bound and wall from that: [`Visit::sample`]), its points appended to `out`.
     pub(super) fn probe_near(
         &self,
         s: &NearSample,
         (body, other): (usize, usize),
         frames: &[Frame],
         pose: (&Mat3, &Vec3),
-        lateral_bound: f64,
+        moved: f64,
         out: &mut Vec<ContactPoint>,
     ) {
         let key = PointKey { body: body as u32, other: other as u32, sample: s.index };
         let impact = || (!s.impact.is_nan()).then_some(s.impact);
-        self.probe_sample(key, (&frames[body], &frames[other]), pose, lateral_bound, impact, out);
+        let wall = if moved < s.wall_margin { s.wall } else { NO_WALL };
+        self.probe_sample(key, (&frames[body], &frames[other]), pose, (s.lateral + moved, wall), impact, out);
     }
 }
 
@@ -320,15 +322,27 @@ impl NearSide {
             } else {
                 let sample = &samples[s.index as usize];
                 let p = dcm_b_a * sample.point_in_body + r_ab;
-                let (d, lateral) = solid.distance_and_lateral(&p);
-                (s.gap, s.lateral) = (d - sample.radius, lateral);
-                // The wall noted kept while it has room for more motion than this (as a gap
-                // is), else noted again.
-                if s.wall != NO_WALL && s.wall_margin - moved > FAR * moved {
+                // The wall noted is kept while it has room for more motion than this (as a
+                // gap is). A sample its lateral bound settles on a face, or its wall kept
+                // answers, is measured by that alone (the same distance to the bit), its
+                // lateral distance kept as a bound; any other in full, its wall noted again.
+                let keep_wall = s.wall != NO_WALL && s.wall_margin - moved > FAR * moved;
+                let lateral_bound = s.lateral + moved;
+                let short = solid
+                    .face_distance(&p, lateral_bound)
+                    .or_else(|| keep_wall.then(|| solid.wall_distance(&p, s.wall)).flatten());
+                if let Some((d, _)) = short {
+                    (s.gap, s.lateral) = (d - sample.radius, lateral_bound);
                     s.wall_margin -= moved;
                 } else {
-                    let wall = solid.wall_near(&p, (d, lateral), sample.radius);
-                    (s.wall, s.wall_margin) = (wall.index, wall.margin);
+                    let (d, lateral) = solid.distance_and_lateral(&p);
+                    (s.gap, s.lateral) = (d - sample.radius, lateral);
+                    if keep_wall {
+                        s.wall_margin -= moved;
+                    } else {
+                        let wall = solid.wall_near(&p, (d, lateral), sample.radius);
+                        (s.wall, s.wall_margin) = (wall.index, wall.margin);
+                    }
                 }
             }
             packed[0] = s.gap;

@@ -198,7 +198,7 @@ impl<'a> Visit for Sums<'a> {
         }
         // Any other sample: probed and added as a listed point.
         self.points.clear();
-        self.set.probe_near(s, side.bodies, self.frames, (&side.dcm_b_a, &side.r_ab), lateral_bound, &mut self.points);
+        self.set.probe_near(s, side.bodies, self.frames, (&side.dcm_b_a, &side.r_ab), moved, &mut self.points);
         for p in &self.points {
             add_point(p, self.frames, self.force_in_n, self.torque_in_n);
             self.dissipation += p.dissipation;

@@ -335,6 +335,41 @@ fn an_overflowing_inertia_is_not_positive_definite() {
     assert!(e.is_none(), "a large but valid inertia is taken: {e:?}");
 }
 
+/// A thick flasher's run (6 × 3, 1 cm, as generated) says in its note, two seconds in, that
+/// its packed start is the slowest part and how far such projections have been from the
+/// runs, as the generator's line does: the projection from the stowed start cannot see when
+/// the package opens (docs/outputs.md).
+#[test]
+fn a_packed_start_says_what_its_projection_cannot_see() {
+    let dir = tmp("packed");
+    let g = foldsim()
+        .args(["generate", "flasher", "--gores", "6", "--rings", "3", "--thickness", "0.01", "-o"])
+        .arg(dir.join("t.toml"))
+        .output()
+        .unwrap();
+    let said = foldsim::simulate::estimate::PACKED_START;
+    assert!(g.status.success() && text(&g).contains(said), "{}", text(&g));
+    let err = quiet_run_for(&dir, "t.toml", 4000);
+    let note =
+        err.lines().find(|l| l.starts_with("note: foldsim run will take about")).unwrap_or_else(|| panic!("{err}"));
+    assert!(note.contains(said) && note.contains("bodies touching"), "{note}");
+}
+
+/// What `foldsim run <scenario> -q` in `dir` says on standard error in its first `millis` ms
+/// (then stopped).
+fn quiet_run_for(dir: &std::path::Path, scenario: &str, millis: u64) -> String {
+    let mut child = foldsim()
+        .current_dir(dir)
+        .args(["run", scenario, "-q", "--csv", "out.csv"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(millis));
+    child.kill().unwrap();
+    let o = child.wait_with_output().unwrap();
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
 /// A run that will take long says so after two seconds, even under --quiet, and a hinge placed
 /// absurdly far from its body draws a located warning; off a terminal, progress lines come
 /// at the interval asked for (30 s unless FOLDSIM_PROGRESS_EVERY says otherwise).
@@ -358,18 +393,10 @@ fn long_runs_say_so_early_and_report_progress_off_a_terminal() {
     let text = text.replacen("[run]\n", "[run]\nmax_steps = 100000000000\n", 1);
     assert!(text.contains("max_steps"));
     std::fs::write(dir.join("far.toml"), text).unwrap();
-    let mut child = foldsim()
-        .current_dir(&dir)
-        .args(["run", "far.toml", "-q", "--csv", "far.csv"])
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(3500));
-    child.kill().unwrap();
-    let o = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = quiet_run_for(&dir, "far.toml", 3500);
     assert!(err.contains("far.toml:") && err.contains("a length in mm where m was meant?"), "{err}");
     assert!(err.contains("note: foldsim run will take about") && err.contains(" h ("), "{err}");
+    assert!(!err.contains("packed start"), "no contact, no packed start: {err}");
     assert!(!err.contains("%),"), "--quiet: no progress lines: {err}");
     // Off a terminal, not quiet: lines at the interval.
     let mut child = foldsim()

@@ -11,6 +11,12 @@ use crate::observe::Observation;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
+/// What a projection of a run with a packed start says of itself (the generator's trial and
+/// the run's note): measured, such projections have been 1.3–13 times the run's wall time
+/// (docs/outputs.md, *How projections are made*; the 8 × 4 1.3× on 2026-11-29, the 6 × 3
+/// 5–9× and the thick starshade 5–9× since).
+pub const PACKED_START: &str = "with contact a packed start is the slowest part of a run and its first seconds cannot show when it opens: thick flashers have taken 1.3 to 13 times less than projected from them (docs/outputs.md)";
+
 /// The largest pace-up exponent a projection assumes (see [`Trend`]).
 pub const MOST_ACCELERATION: f64 = 1.4;
 

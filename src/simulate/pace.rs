@@ -49,10 +49,7 @@ impl Progress<'_, '_> {
                 self.step
             );
         }
-        if let Some((summary, touched)) = self.dynamics.row_contact(self.y)
-            && touched.iter().any(|&t| t)
-        {
-            let bodies = touched.iter().filter(|&&t| t).count();
+        if let Some((summary, bodies)) = self.touching() {
             return format!(
                 "contact: {bodies} bodies touching (deepest {:.2e} m); each impact is followed through the contact law's stiffness; a softer contact.stiffness (deeper penetration) or a looser run.rtol shortens it",
                 summary.deepest.0
@@ -69,6 +66,14 @@ impl Progress<'_, '_> {
             "accuracy: the tolerances set the steps ({:.2e} s; {body}: a body that fast may have too small a mass or inertia); a looser run.rtol and run.atol shortens it",
             self.step
         )
+    }
+
+    /// With contact, what it adds up to now and how many bodies touch (now, or at an accepted
+    /// step since the last output row); `None` without contact or with none touching.
+    pub fn touching(&self) -> Option<(crate::contact::ContactSummary, usize)> {
+        let (summary, touched) = self.dynamics.row_contact(self.y)?;
+        let bodies = touched.iter().filter(|&&t| t).count();
+        (bodies > 0).then_some((summary, bodies))
     }
 }
 

@@ -32,15 +32,8 @@ fn expected_run_time(text: &str) -> Result<String, String> {
     let contact = s.model.contact.is_some();
     let budget = std::time::Duration::from_millis(if contact { 2000 } else { 500 });
     let e = foldsim::simulate::estimate::estimate(&s.model, &s.initial, &s.settings, budget).describe();
-    // Measured (docs/outputs.md): a trial of a packed start cannot see when the package
-    // opens, and thick flashers have run 1.3–13 times shorter than projected (docs/outputs.md, the 8 × 4 1.3× on 2026-11-29).
-    Ok(if contact {
-        format!(
-            "{e}; with contact the packed start is the slowest part and the trial cannot see when it opens: thick flashers have taken 1.3 to 13 times less than such projections (docs/outputs.md)"
-        )
-    } else {
-        e
-    })
+    // Measured: a trial of a packed start cannot see when the package opens.
+    Ok(if contact { format!("{e}; {}", foldsim::simulate::estimate::PACKED_START) } else { e })
 }
 
 /// Writes a scenario to `output` through `<output>.partial` (renamed when complete), or to

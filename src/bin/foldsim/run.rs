@@ -11,6 +11,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+
+/// Bodies touching at a run's note from which it is taken for a packed start (a stowed
+/// package pressing on itself, as a thick flasher's nested wrap does from t = 0; a panel
+/// striking the hub is two), and the note says what its projection cannot see
+/// (`estimate::PACKED_START`).
+const PACKED_BODIES: usize = 3;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -127,7 +133,12 @@ pub(crate) fn run(
             } else {
                 format!("no step finished yet ({})", p.method)
             };
-            format!("{steps}; what holds them back: {}; or shorten run.duration. Ctrl-C stops it", p.pace())
+            // A stowed package pressing on itself (several bodies touching): its start is the
+            // run's slowest part, which the projection before it cannot see past.
+            let packed = p.touching().is_some_and(|(_, bodies)| bodies >= PACKED_BODIES);
+            let caveat =
+                if packed { format!("{}; ", foldsim::simulate::estimate::PACKED_START) } else { String::new() };
+            format!("{caveat}{steps}; what holds them back: {}; or shorten run.duration. Ctrl-C stops it", p.pace())
         });
         if let Some(b) = &bar {
             b.set_position((1000.0 * t / duration) as u64);

@@ -5,7 +5,7 @@
 //! The stowed wrap's innermost layer lies on the hub prism's side walls: in the thick
 //! flasher example, two thirds of the samples a summing right-hand side probed in full (the
 //! outline's every edge, the extrusion, then the law through the listed point's path) were
-//! samples against the hub (callgrind and counters, 2026-11-30: 4.2 million of 6.4 million).
+//! samples against the hub (counted, 2026-11-30: 4.2 million of 6.4 million).
 //! A convex outline's signed distance is the largest of its edges' line distances where the
 //! foot on that edge's line lies on the edge or the point is inside ([`super::solid::
 //! outline_distance`]); the list ([`super::proximity`]) notes at each reference which edge

@@ -301,9 +301,17 @@ impl<'m> Dynamics<'m> {
     /// add up to, and per body whether it touched another at an accepted step since the last
     /// row or touches at `y` (the record then starts again).
     pub fn row_contact(&self, y: &[f64]) -> Option<(ContactSummary, Vec<bool>)> {
+        let row = self.contact_at(y)?;
+        *self.touched.borrow_mut() = vec![false; self.model.bodies.len()];
+        Some(row)
+    }
+
+    /// [`Self::row_contact`] without starting the record again: what a diagnosis reads
+    /// between rows, leaving the next row's record whole.
+    pub fn contact_at(&self, y: &[f64]) -> Option<(ContactSummary, Vec<bool>)> {
         self.model.contact.as_ref()?;
         let points = self.contact_points(y);
-        let mut touched = std::mem::replace(&mut *self.touched.borrow_mut(), vec![false; self.model.bodies.len()]);
+        let mut touched = self.touched.borrow().clone();
         let log = self.contact_log.borrow();
         mark_touched(points.iter().filter(|p| !log.is_resting(p)), &mut touched);
         Some((ContactSummary::of(&points), touched))

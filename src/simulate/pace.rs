@@ -69,9 +69,10 @@ impl Progress<'_, '_> {
     }
 
     /// With contact, what it adds up to now and how many bodies touch (now, or at an accepted
-    /// step since the last output row); `None` without contact or with none touching.
+    /// step since the last output row); `None` without contact or with none touching. The
+    /// output rows' record of who touched is left as it is.
     pub fn touching(&self) -> Option<(crate::contact::ContactSummary, usize)> {
-        let (summary, touched) = self.dynamics.row_contact(self.y)?;
+        let (summary, touched) = self.dynamics.contact_at(self.y)?;
         let bodies = touched.iter().filter(|&&t| t).count();
         (bodies > 0).then_some((summary, bodies))
     }

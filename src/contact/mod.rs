@@ -447,10 +447,8 @@ impl ContactSet {
         (lateral_bound, wall): (f64, u32),
         impact_speed: impl FnOnce() -> Option<f64>,
     ) -> Option<PointForce<f64>> {
-        let (d, normal_in_b) = solid
-            .face_distance(point_in_b, lateral_bound)
-            .or_else(|| (wall != wall::NO_WALL).then(|| solid.wall_distance(point_in_b, wall)).flatten())
-            .unwrap_or_else(|| solid.signed_distance(point_in_b));
+        let (d, normal_in_b) =
+            solid.known_distance(point_in_b, lateral_bound, wall).unwrap_or_else(|| solid.signed_distance(point_in_b));
         let depth = sample.radius - d;
         if depth <= 0.0 {
             return None;

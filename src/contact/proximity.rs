@@ -328,10 +328,8 @@ impl NearSide {
                 // lateral distance kept as a bound; any other in full, its wall noted again.
                 let keep_wall = s.wall != NO_WALL && s.wall_margin - moved > FAR * moved;
                 let lateral_bound = s.lateral + moved;
-                let short = solid
-                    .face_distance(&p, lateral_bound)
-                    .or_else(|| keep_wall.then(|| solid.wall_distance(&p, s.wall)).flatten());
-                if let Some((d, _)) = short {
+                if let Some((d, _)) = solid.known_distance(&p, lateral_bound, if keep_wall { s.wall } else { NO_WALL })
+                {
                     (s.gap, s.lateral) = (d - sample.radius, lateral_bound);
                     s.wall_margin -= moved;
                 } else {

@@ -78,6 +78,15 @@ impl Solid {
         Wall::of(edges, [p.x, p.y])
     }
 
+    /// [`Solid::signed_distance`] of `p_in_body` (m, body frame) by what a listed sample
+    /// knows of it: the face's alone where `lateral_bound` (m, a bound on its lateral
+    /// distance) settles it on a face ([`Solid::face_distance`]), else the wall `wall`'s
+    /// where one is noted and still answers ([`Solid::wall_distance`]; [`NO_WALL`] for none).
+    /// `None` where neither serves: the full computation then. The same numbers to the bit.
+    pub fn known_distance(&self, p_in_body: &Vec3, lateral_bound: f64, wall: u32) -> Option<(f64, Vec3)> {
+        self.face_distance(p_in_body, lateral_bound).or_else(|| self.wall_distance(p_in_body, wall))
+    }
+
     /// [`Solid::signed_distance`] of `p_in_body` (m, body frame) when the outline's edge
     /// `wall` (of a convex prism) answers the point's lateral distance (the caller knows it
     /// from a [`Wall`] and the point's motion since, within its margin): the wall's line

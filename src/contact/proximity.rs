@@ -30,6 +30,15 @@
 //! grows with one step's motion, not with all the motion since the build, and a trial
 //! state probes about the samples within a step's reach of the other body (on the 5 × 2
 //! thick flasher 680 per right-hand side against 5,000, of which 262 touch).
+//!
+//! A side passed over there (nothing of it within reach) keeps a bound of its motion from
+//! its reference to that accepted state (`NearSide::stale`), and each body's motion since the
+//! last accepted state is measured once per right-hand side (in the first body's frame, as
+//! above): a side whose gap exceeds the two is skipped before its bodies' relative pose is
+//! formed (the distance from a moving solid changes by no more than the motions of the point
+//! and of the solid's points). On the thick flasher example a right-hand side formed 218
+//! relative poses to find the 54 sides it probes; with the bound 89 (callgrind: the run's
+//! instructions −3.1 %, the same output to the byte).
 
 use super::wall::NO_WALL;
 use super::{ContactMemory, ContactPoint, ContactSet, Frame, PointKey, Workspace};
@@ -138,6 +147,7 @@ impl Proximity {
         if !self.motion(frames, motion) {
             return false;
         }
+        let (motion, step) = motion.split_at(frames.len());
         for pair in &self.pairs {
             // The two bodies' motions relative to the first body bound their relative one.
             if motion[pair.a] + motion[pair.b] + SLACK < pair.gap {
@@ -145,6 +155,11 @@ impl Proximity {
             }
             for (body, other, side) in [(pair.a, pair.b, &pair.a_in_b), (pair.b, pair.a, &pair.b_in_a)] {
                 if side.samples.is_empty() {
+                    continue;
+                }
+                // Its motion since its reference is at most that up to the last accepted
+                // state and each body's since.
+                if side.gap >= side.stale + step[body] + step[other] + SLACK {
                     continue;
                 }
                 let (fa, fb) = (&frames[body], &frames[other]);
@@ -232,6 +247,9 @@ pub struct NearSide {
     /// of it, at the reference): what [`Proximity::remember`] looks up, rather than every
     /// sample.
     touching: Vec<u32>,
+    /// How far its samples may have moved towards the other's solid from the reference to
+    /// the last accepted state, at most, m (0 where it was brought up to date there).
+    stale: f64,
 }
 
 /// Each sample's `[gap, reach]`.
@@ -269,7 +287,19 @@ impl NearSide {
         let mut runs = Vec::new();
         runs_of(&bounds, &mut runs);
         let reference = fa.in_frame_of(fb);
-        Self { samples, gap, reach, bounds, runs, reference, remembered: Vec::new(), touching, based: reference, cover }
+        Self {
+            samples,
+            gap,
+            reach,
+            bounds,
+            runs,
+            reference,
+            remembered: Vec::new(),
+            touching,
+            based: reference,
+            cover,
+            stale: 0.0,
+        }
     }
 
     /// How far the body has moved in the other's frame since the reference, given its
@@ -350,6 +380,7 @@ impl NearSide {
         runs_of(&self.bounds, &mut self.runs);
         self.touching = touching_of(&self.samples);
         self.reference = (*dcm_b_a, *r_ab);
+        self.stale = 0.0;
     }
 
     /// The side kept at `frames` (of `body` against `other`; `reach`, m, the farthest
@@ -377,7 +408,7 @@ impl NearSide {
             self.rereference(&sa.samples, sb, (&dcm_b_a, &r_ab), motion);
         }
         self.reference = (dcm_b_a, r_ab);
-        (self.based, self.cover) = ((dcm_b_a, r_ab), cover);
+        (self.based, self.cover, self.stale) = ((dcm_b_a, r_ab), cover, 0.0);
         Some(self)
     }
 }
@@ -397,6 +428,9 @@ pub struct Proximity {
     /// Per body at the reference: its centre and attitude in the first body's frame.
     ref_position: Vec<Vec3>,
     ref_dcm: Vec<Mat3>,
+    /// The same at the last accepted state the list was brought up to date at.
+    accepted_position: Vec<Vec3>,
+    accepted_dcm: Vec<Mat3>,
     /// Per body: the farthest point of its samples (with their radii) and of its solid's
     /// bounding box from its centre, m.
     reach: Vec<f64>,
@@ -461,7 +495,8 @@ impl Proximity {
             }
             pairs.push(NearPair { a, b, gap: a_in_b.gap.min(b_in_a.gap), a_in_b, b_in_a });
         }
-        Self { ref_position, ref_dcm, reach, pairs, skin, kept }
+        let (accepted_position, accepted_dcm) = (ref_position.clone(), ref_dcm.clone());
+        Self { ref_position, ref_dcm, accepted_position, accepted_dcm, reach, pairs, skin, kept }
     }
 
     /// At an accepted state `frames`: if every body has moved less than [`REBUILD`] skins
@@ -474,14 +509,18 @@ impl Proximity {
     /// half skin is reached, the trial states of the next step seldom leave its reach, where
     /// every pair would be probed).
     pub fn rereference(&mut self, set: &ContactSet, frames: &[Frame], motion: &mut Vec<f64>) -> bool {
-        if !self.motion(frames, motion) || motion.iter().any(|&m| m >= REBUILD * self.skin) {
+        let n = frames.len();
+        if !self.motion(frames, motion) || motion[..n].iter().any(|&m| m >= REBUILD * self.skin) {
             return false;
         }
+        let (motion, step) = motion.split_at(n);
         for pair in &mut self.pairs {
-            if motion[pair.a] + motion[pair.b] + SLACK < pair.gap {
-                continue;
-            }
+            let skipped = motion[pair.a] + motion[pair.b] + SLACK < pair.gap;
             for (body, other, side) in [(pair.a, pair.b, &mut pair.a_in_b), (pair.b, pair.a, &mut pair.b_in_a)] {
+                if skipped {
+                    side.stale += step[body] + step[other];
+                    continue;
+                }
                 let (Some(sa), Some(sb)) = (&set.solids[body], &set.solids[other]) else { continue };
                 if side.samples.is_empty() {
                     continue;
@@ -489,11 +528,13 @@ impl Proximity {
                 let (dcm_b_a, r_ab) = frames[body].in_frame_of(&frames[other]);
                 let (shift, chord) = side.motion(&dcm_b_a, &r_ab);
                 if side.gap >= shift + chord * side.reach + SLACK {
+                    side.stale = shift + chord * side.reach;
                     continue;
                 }
                 side.rereference(&sa.samples, sb, (&dcm_b_a, &r_ab), (shift, chord));
             }
         }
+        (self.accepted_position, self.accepted_dcm) = relative(frames);
         true
     }
 
@@ -545,16 +586,19 @@ impl Proximity {
     /// first body's frame), written to `motion`; false if some body moved half the skin or
     /// more (the list no longer covers every pair that may touch).
     pub fn motion(&self, frames: &[Frame], motion: &mut Vec<f64>) -> bool {
+        let n = frames.len();
         motion.clear();
+        motion.resize(2 * n, 0.0);
         let f0 = &frames[0];
         let dcm_0n = f0.dcm_n_b.transpose();
         let mut valid = true;
         for (i, f) in frames.iter().enumerate() {
             let r = dcm_0n * (f.position_in_n - f0.position_in_n);
-            let chord = chord(&self.ref_dcm[i], &(dcm_0n * f.dcm_n_b));
-            let m = (r - self.ref_position[i]).norm() + self.reach[i] * chord;
+            let dcm = dcm_0n * f.dcm_n_b;
+            let m = (r - self.ref_position[i]).norm() + self.reach[i] * chord(&self.ref_dcm[i], &dcm);
             valid &= m < 0.5 * self.skin;
-            motion.push(m);
+            motion[i] = m;
+            motion[n + i] = (r - self.accepted_position[i]).norm() + self.reach[i] * chord(&self.accepted_dcm[i], &dcm);
         }
         valid
     }
@@ -570,6 +614,55 @@ fn relative(frames: &[Frame]) -> (Vec<Vec3>, Vec<Mat3>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A side the list's upkeep passes over keeps count of its motion: two 1-cm plates 3 cm
+    /// apart close between accepted states where the list is brought up to date and the side
+    /// passed over, and at a trial state 4 mm into each other a scan through the list finds
+    /// exactly the points a full search finds (none missed because only the motion since the
+    /// last accepted state was counted against the 3-cm gap). Passed over at its pair (the
+    /// bodies moved less than the gap since the build: 8 mm closer at each of three states),
+    /// and at its side (both plates 2 cm sideways, which the pair's bound cannot tell from
+    /// motion towards each other, then 1 and 2 cm closer).
+    #[test]
+    fn motion_passed_over_at_accepted_states_still_counts() {
+        use super::super::law::ContactLaw;
+        use super::super::solid::Solid;
+        let square = [
+            Vec3::new(-0.5, -0.5, 0.0),
+            Vec3::new(0.5, -0.5, 0.0),
+            Vec3::new(0.5, 0.5, 0.0),
+            Vec3::new(-0.5, 0.5, 0.0),
+        ];
+        let plate = || Some(Solid::plate(&square, 0.01, 0.01).unwrap());
+        let law = ContactLaw::new(1e8, 1.5, 0.5, 0.2, 1e-3, 1e-3, 0.0);
+        // Body 0, far off, is the frame the bodies' motions are measured in.
+        let set = ContactSet::new(law, vec![None, plate(), plate()]);
+        // Plate 2 (m) sideways and down from 4 cm over plate 1, plate 1 sideways with it.
+        let at = |x: f64, down: f64| {
+            let frame = |x: f64, z: f64| Frame { position_in_n: Vec3::new(x, 0.0, z), ..Frame::default() };
+            vec![frame(10.0, 0.0), frame(x, 0.0), frame(x, 0.04 - down)]
+        };
+        let paths: [&[(f64, f64)]; 2] = [&[(0.0, 0.008), (0.0, 0.016), (0.0, 0.024)], &[(0.02, 0.01), (0.02, 0.02)]];
+        for (path, accepted) in paths.iter().enumerate() {
+            // Faces 3 cm apart: within the list's cover (1.5 skins of 12.5 cm).
+            let mut near = Proximity::build(&set, &at(0.0, 0.0), set.skin());
+            assert_eq!(near.pairs.len(), 1);
+            assert!((near.pairs[0].gap - 0.03).abs() < 1e-12, "gap {}", near.pairs[0].gap);
+            let mut motion = Vec::new();
+            for &(x, down) in accepted.iter() {
+                assert!(near.rereference(&set, &at(x, down), &mut motion), "path {path}: rebuilt");
+                let side = &near.pairs[0].a_in_b;
+                assert!(side.gap > 0.029, "path {path}: the side was passed over (its gap {} kept)", side.gap);
+            }
+            let trial = at(accepted[accepted.len() - 1].0, 0.034);
+            let mut full = Vec::new();
+            set.evaluate(&trial, &ContactMemory::default(), &mut Workspace::default(), &mut full);
+            assert!(full.len() > 100, "path {path}: {} points in the full search", full.len());
+            let mut listed = Vec::new();
+            set.evaluate_near(&trial, &ContactMemory::default(), &near, &mut Workspace::default(), &mut listed);
+            assert!(listed == full, "path {path}: {} points through the list, {} in full", listed.len(), full.len());
+        }
+    }
 
     /// The chord of a rotation by θ is 2 sin(θ/2), to rounding, down to the smallest angles
     /// (the trace's form gave 0 or 3e-8 below about 1e-8 rad, and the proximity list then

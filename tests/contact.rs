@@ -393,6 +393,63 @@ fn exact_jacobian_with_contact_matches_differences() {
     let m = common::jacobian_mismatch_at(&dynamics, &y, 1e-7);
     println!("contact: dual Jacobian vs central differences {m:e} ({} points)", points.len());
     assert!(m <= 1e-8, "{m:e}");
+    // The Jacobian in its two parts (the rest's blocks, kept by the Newton matrix, and the
+    // contact's, brought up to date after a Newton failure) adds up to the whole: to 1e-13
+    // of the largest entry (the same terms summed in another order), the contact's part
+    // alone at least a tenth of the whole (it is not empty).
+    use foldsim::dynamics::jacobian::{BlockSink, ExactJacobian, PoseBlock, TwistBlock};
+    type Blocks = std::collections::HashMap<(usize, usize), (PoseBlock, TwistBlock)>;
+    let gather = |send: &dyn Fn(&mut BlockSink<'_>) -> bool| {
+        let mut blocks = Blocks::new();
+        assert!(send(&mut |i, j, dx, dv| {
+            let e = blocks.entry((i, j)).or_insert((PoseBlock::zeros(), TwistBlock::zeros()));
+            e.0 += dx;
+            e.1 += dv;
+        }));
+        blocks
+    };
+    let whole = gather(&|add| dynamics.acceleration_jacobian(&y, add));
+    let rest = gather(&|add| dynamics.rest_jacobian(&y, add));
+    let contact = gather(&|add| dynamics.contact_jacobian(&y, add));
+    let entries =
+        |b: &Blocks, key| b.get(key).map_or(vec![0.0; 78], |(x, v)| x.iter().chain(v.iter()).copied().collect());
+    let scale = whole.values().flat_map(|(x, v)| x.iter().chain(v.iter())).fold(0.0f64, |m, e| m.max(e.abs()));
+    let (mut worst, mut contact_largest) = (0.0f64, 0.0f64);
+    for key in whole.keys().chain(rest.keys()).chain(contact.keys()) {
+        let (w, r, c) = (entries(&whole, key), entries(&rest, key), entries(&contact, key));
+        for k in 0..78 {
+            worst = worst.max((w[k] - r[k] - c[k]).abs());
+            contact_largest = contact_largest.max(c[k].abs());
+        }
+    }
+    println!("contact: the rest's and the contact's parts add up to the whole to {:e}", worst / scale);
+    assert!(worst <= 1e-13 * scale, "{worst:e} of {scale:e}");
+    assert!(contact_largest >= 0.1 * scale, "the contact's part {contact_largest:e} of {scale:e}");
+    // The Newton matrix with its contact part brought up to date at the state of its last
+    // whole Jacobian solves as that one did (to 1e-12: the blocks summed in another order),
+    // and at another state (the cube 0.5 mm deeper) as neither: its contact part moved.
+    use foldsim::integrate::NewtonMatrix;
+    let h_gamma = 1e-3;
+    let mut newton = foldsim::dynamics::newton::GraphNewton::new_exact(&dynamics, &s.model, &dynamics);
+    let probe: Vec<f64> = (0..y.len()).map(|k| ((k * 7919) % 13) as f64 - 6.0).collect();
+    let solved = |newton: &mut dyn NewtonMatrix| {
+        let mut x = probe.clone();
+        newton.solve(&mut x);
+        x
+    };
+    assert!(newton.prepare(0.0, &y, h_gamma));
+    let whole = solved(&mut newton);
+    assert!(newton.refresh_contact(0.0, &y, h_gamma));
+    let again = solved(&mut newton);
+    let size = whole.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = whole.iter().zip(&again).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(off <= 1e-12 * size, "{off:e} of {size:e}");
+    let mut deeper = y.clone();
+    deeper[B + 2] -= 5e-4;
+    assert!(newton.refresh_contact(0.0, &deeper, h_gamma));
+    let moved = solved(&mut newton);
+    let change = whole.iter().zip(&moved).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(change > 1e-6 * size, "{change:e} of {size:e}");
 }
 
 /// The points of the last right-hand side's state are reused for that state (an accepted

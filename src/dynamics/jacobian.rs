@@ -60,6 +60,24 @@ pub trait ExactJacobian {
         Vec::new()
     }
 
+    /// The contact's part of [`Self::acceleration_jacobian`] at `y` alone: the blocks that
+    /// the forces of the points in contact add, with their torques' share of each body's
+    /// attitude derivative (linear in the torque: the rest's share is the rest's). The full
+    /// Jacobian is the rest's blocks plus these, so that a Newton matrix can bring its
+    /// contact part up to date at a new state and keep the rest (see
+    /// [`crate::integrate::NewtonMatrix::refresh_contact`]). False when there is no such
+    /// split (no contact), sending nothing.
+    fn contact_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> bool {
+        false
+    }
+
+    /// The rest of [`Self::acceleration_jacobian`] at `y`, all but [`Self::contact_jacobian`]'s
+    /// blocks; false (having sent what it sent, as `acceleration_jacobian`) when there is no
+    /// such split or a law has no dual form.
+    fn rest_jacobian(&self, _y: &[f64], _add: &mut BlockSink<'_>) -> bool {
+        false
+    }
+
     /// The locks at `y`, for a Newton matrix that carries them as rows: sends to `add` the
     /// blocks of the constraint wrenches' derivatives with the multipliers held
     /// (`∂(M⁻¹ Jᵀ λ)/∂(x, v)`), and returns the engaged locks' rows (see
@@ -153,8 +171,19 @@ fn split(rows: &[D; 6]) -> [(PoseBlock, TwistBlock); 2] {
     out
 }
 
-impl ExactJacobian for Dynamics<'_> {
-    fn acceleration_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool {
+/// Which parts of the Jacobian [`Dynamics::jacobian_parts`] sends.
+#[derive(Clone, Copy)]
+struct Parts {
+    /// The hinges, motors, loads, control and the bodies' gyroscopic terms.
+    rest: bool,
+    /// The contact points.
+    contact: bool,
+}
+
+impl Dynamics<'_> {
+    /// The blocks of `parts` of the accelerations' Jacobian at `y` (see
+    /// [`ExactJacobian::acceleration_jacobian`]; the two parts add up to the whole).
+    fn jacobian_parts(&self, y: &[f64], add: &mut BlockSink<'_>, parts: Parts) -> bool {
         let model = self.model();
         let refs = self.theta_refs();
         let memories = self.memories();
@@ -170,7 +199,7 @@ impl ExactJacobian for Dynamics<'_> {
         let own: Vec<BodyMotion<D13>> =
             (0..nb).map(|i| BodyMotion::<D13>::from_body_state(&seeded13(body(i)))).collect();
         let held = |x: D13| D13::from_re(x.re);
-        for (i, h) in model.hinges.iter().enumerate() {
+        for (i, h) in model.hinges.iter().enumerate().filter(|_| parts.rest) {
             let p = ParentSide::new(h, &own[h.parent]);
             let c = ChildSide::new(h, &own[h.child]);
             for (pass, (column, p, c)) in
@@ -201,7 +230,9 @@ impl ExactJacobian for Dynamics<'_> {
         }
         // Contact points: the same code as the right-hand side's, in dual numbers, each
         // point's impact speed held (crate::contact::ContactSet::point_force).
-        if let Some(set) = &model.contact {
+        if parts.contact
+            && let Some(set) = &model.contact
+        {
             let memory = self.contact_memory();
             // The points come grouped by pair: the two seeded motions once per pair, and the
             // pair's force and its moment about each body's centre summed over its points
@@ -253,26 +284,44 @@ impl ExactJacobian for Dynamics<'_> {
             let (dx, dv) = block(&rows);
             add(b, b, &dx, &dv);
         };
-        for load in model.loads.iter().chain(self.commanded.borrow().iter()) {
-            let (force, torque) = load.wrench(t, &own[load.body].dcm_n_b);
-            self_block(load.body, force, torque);
+        if parts.rest {
+            for load in model.loads.iter().chain(self.commanded.borrow().iter()) {
+                let (force, torque) = load.wrench(t, &own[load.body].dcm_n_b);
+                self_block(load.body, force, torque);
+            }
+            let wi = crate::state::wheel_index(model);
+            let hub = seeded13(body(0));
+            if let Some(tau_b) = self.control_torque(&hub, &y[wi..wi + model.wheel_count()]) {
+                self_block(0, Vector3::zeros(), own[0].dcm_n_b * tau_b);
+            }
         }
-        let wi = crate::state::wheel_index(model);
-        let hub = seeded13(body(0));
-        if let Some(tau_b) = self.control_torque(&hub, &y[wi..wi + model.wheel_count()]) {
-            self_block(0, Vector3::zeros(), own[0].dcm_n_b * tau_b);
-        }
-        // Per body: ω̇ = I⁻¹ ([b N](q) τ_total − ω × Iω) in its own attitude and rate.
+        // Per body: ω̇ = I⁻¹ ([b N](q) τ_total − ω × Iω) in its own attitude and rate; linear in
+        // τ, so that each part takes its own torques' share (the gyroscopic term the rest's).
         for (i, bd) in model.bodies.iter().enumerate() {
             let s = seeded13(body(i));
             let omega_b = Vector3::new(s[OMEGA], s[OMEGA + 1], s[OMEGA + 2]);
             let tau_b = mat_tr_vec(&own[i].dcm_n_b, &torque_in_n[i].map(real::<D13>));
             let i_omega = const_mat_vec(&bd.inertia_in_body, &omega_b);
-            let alpha = const_mat_vec(&bd.inertia_inv_in_body, &(tau_b - cross(&omega_b, &i_omega)));
+            let gyroscopic = if parts.rest { cross(&omega_b, &i_omega) } else { Vector3::zeros() };
+            let alpha = const_mat_vec(&bd.inertia_inv_in_body, &(tau_b - gyroscopic));
             let (dx, dv) = block(&[D13::from_re(0.0), D13::from_re(0.0), D13::from_re(0.0), alpha.x, alpha.y, alpha.z]);
             add(i, i, &dx, &dv);
         }
         true
+    }
+}
+
+impl ExactJacobian for Dynamics<'_> {
+    fn acceleration_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool {
+        self.jacobian_parts(y, add, Parts { rest: true, contact: true })
+    }
+
+    fn contact_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool {
+        self.model().contact.is_some() && self.jacobian_parts(y, add, Parts { rest: false, contact: true })
+    }
+
+    fn rest_jacobian(&self, y: &[f64], add: &mut BlockSink<'_>) -> bool {
+        self.model().contact.is_some() && self.jacobian_parts(y, add, Parts { rest: true, contact: false })
     }
 
     fn coupled_pairs(&self, y: &[f64]) -> Vec<(usize, usize)> {

@@ -24,7 +24,7 @@
 //! back; its rows are taken as the identity, which simplified Newton tolerates (those
 //! components converge in one iteration once the bodies have).
 
-use super::jacobian::{ConstraintRow, ExactJacobian, PoseBlock, TwistBlock};
+use super::jacobian::{BlockSink, ConstraintRow, ExactJacobian, PoseBlock, TwistBlock};
 use crate::integrate::NewtonMatrix;
 use crate::integrate::OdeSystem;
 use crate::model::Model;
@@ -151,6 +151,29 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     edges: Vec<(usize, usize)>,
     /// The locks' rows at the last Jacobian, in the order of `groups`.
     group_rows: Vec<ConstraintRow>,
+    /// The last exact Jacobian's blocks but the contact's (`jac_x`, `jac_v`), kept for
+    /// [`NewtonMatrix::refresh_contact`]; `None` without contact or with locks.
+    rest: Option<RestBlocks>,
+}
+
+/// A Jacobian's blocks as `GraphNewton` keeps them: per body, per neighbour, `∂a_i/∂x_j`
+/// and `∂a_i/∂v_j`.
+type RestBlocks = (Vec<Vec<PoseBlock>>, Vec<Vec<Block>>);
+
+/// Adds the blocks `send` sends to `jac_x` and `jac_v` at their neighbour slots, and returns
+/// what `send` does.
+fn gather<R>(
+    neighbours: &[Vec<usize>],
+    jac_x: &mut [Vec<PoseBlock>],
+    jac_v: &mut [Vec<Block>],
+    send: impl FnOnce(&mut BlockSink<'_>) -> R,
+) -> R {
+    let mut add = |i: usize, j: usize, dx: &PoseBlock, dv: &Block| {
+        let slot = neighbours[i].binary_search(&j).expect("blocks only between neighbours");
+        jac_x[i][slot] += dx;
+        jac_v[i][slot] += dv;
+    };
+    send(&mut add)
 }
 
 impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
@@ -211,6 +234,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             without_locks: (Vec::new(), Vec::new()),
             group_rows: Vec::new(),
             edges: edges.clone(),
+            rest: None,
         };
         // With an exact Jacobian the locks are rows of the system (`groups`), and bodies couple
         // along hinges only.
@@ -248,14 +272,29 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
         (self.order, self.position) = self.with_locks.clone();
     }
 
+    /// Each body's attitude and rate at `y`, for the pose rates.
+    fn set_pose(&mut self, y: &[f64]) {
+        for (b, pose) in self.pose.iter_mut().enumerate() {
+            let s = &y[B * b..B * (b + 1)];
+            pose.q.copy_from_slice(&s[QUAT..QUAT + 4]);
+            pose.omega.copy_from_slice(&s[OMEGA..OMEGA + 3]);
+        }
+    }
+
+    /// Every Jacobian block zero.
+    fn zero_blocks(&mut self) {
+        self.jac_x.iter_mut().flatten().for_each(|b| *b = PoseBlock::zeros());
+        self.jac_v.iter_mut().flatten().for_each(|b| *b = Block::zeros());
+    }
+
     /// Makes room in the structure for blocks between the bodies of `pairs` (contact): the
     /// pairs not yet neighbours join the graph for the rest of the run, and the elimination
     /// orders (with and without the locks' rows) are found again.
-    fn add_pairs(&mut self, pairs: &[(usize, usize)]) {
+    fn add_pairs(&mut self, pairs: &[(usize, usize)]) -> bool {
         let new: Vec<(usize, usize)> =
             pairs.iter().copied().filter(|&(a, b)| self.neighbours[a].binary_search(&b).is_err()).collect();
         if new.is_empty() {
-            return;
+            return false;
         }
         self.edges.extend(new);
         let groups = std::mem::take(&mut self.groups);
@@ -270,8 +309,9 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             let carried = std::mem::take(&mut self.groups);
             self.carry_locks(carried);
         }
-        self.jac_x.iter_mut().flatten().for_each(|b| *b = PoseBlock::zeros());
-        self.jac_v.iter_mut().flatten().for_each(|b| *b = Block::zeros());
+        self.zero_blocks();
+        self.rest = None;
+        true
     }
 
     /// The body pairs a differenced Jacobian couples: the hinges, and every pair in a cluster
@@ -430,33 +470,56 @@ impl<S: OdeSystem + ?Sized> GraphNewton<'_, S> {
 }
 
 impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
-    fn prepare(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool {
-        for (b, pose) in self.pose.iter_mut().enumerate() {
-            let s = &y[B * b..B * (b + 1)];
-            pose.q.copy_from_slice(&s[QUAT..QUAT + 4]);
-            pose.omega.copy_from_slice(&s[OMEGA..OMEGA + 3]);
+    fn refresh_contact(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool {
+        let (Some(source), Some((rest_x, rest_v))) = (self.exact, self.rest.take()) else {
+            return self.prepare(t, y, h_gamma);
+        };
+        // A pair new in contact changes the structure (and the slots the rest was kept in).
+        if self.add_pairs(&source.coupled_pairs(y)) {
+            return self.prepare(t, y, h_gamma);
         }
+        self.set_pose(y);
+        for (dst, src) in self.jac_x.iter_mut().zip(&rest_x) {
+            dst.copy_from_slice(src);
+        }
+        for (dst, src) in self.jac_v.iter_mut().zip(&rest_v) {
+            dst.copy_from_slice(src);
+        }
+        self.rest = Some((rest_x, rest_v));
+        if !gather(&self.neighbours, &mut self.jac_x, &mut self.jac_v, |add| source.contact_jacobian(y, add)) {
+            return self.prepare(t, y, h_gamma);
+        }
+        self.exact_count += 1;
+        self.refactor(h_gamma)
+    }
+
+    fn prepare(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool {
+        self.set_pose(y);
         if let Some(source) = self.exact {
-            for (x, v) in self.jac_x.iter_mut().zip(&mut self.jac_v) {
-                x.iter_mut().for_each(|b| *b = PoseBlock::zeros());
-                v.iter_mut().for_each(|b| *b = Block::zeros());
-            }
+            self.zero_blocks();
             // Bodies in contact couple like bodies sharing a hinge: room for their blocks.
             // The structure only grows, so the elimination order changes only when a new
             // pair first touches.
             self.add_pairs(&source.coupled_pairs(y));
             let (neighbours, jac_x, jac_v) = (&self.neighbours, &mut self.jac_x, &mut self.jac_v);
-            let mut add = |i: usize, j: usize, dx: &PoseBlock, dv: &Block| {
-                let slot = neighbours[i].binary_search(&j).expect("blocks only between neighbours");
-                jac_x[i][slot] += dx;
-                jac_v[i][slot] += dv;
-            };
-            if source.acceleration_jacobian(y, &mut add) {
+            // With contact and no locks, the rest's blocks first, kept for
+            // `refresh_contact`, then the contact's.
+            self.rest = None;
+            let mut whole = !self.has_locks && gather(neighbours, jac_x, jac_v, |add| source.rest_jacobian(y, add));
+            if whole {
+                self.rest = Some((jac_x.clone(), jac_v.clone()));
+                whole = gather(neighbours, jac_x, jac_v, |add| source.contact_jacobian(y, add));
+            } else {
+                jac_x.iter_mut().flatten().for_each(|b| *b = PoseBlock::zeros());
+                jac_v.iter_mut().flatten().for_each(|b| *b = Block::zeros());
+                whole = gather(neighbours, jac_x, jac_v, |add| source.acceleration_jacobian(y, add));
+            }
+            if whole {
                 self.group_rows.clear();
                 if self.has_locks {
                     // No rows: every lock idle or disengaged (see
                     // `ExactJacobian::constraint_jacobian`).
-                    let locks = source.constraint_jacobian(y, &mut add);
+                    let locks = gather(neighbours, jac_x, jac_v, |add| source.constraint_jacobian(y, add));
                     self.group_rows = locks.rows;
                     self.carry_locks(locks.groups);
                 }

@@ -14,6 +14,7 @@ mod anderson;
 pub mod explicit;
 pub mod galpha;
 pub mod newton;
+mod retries;
 pub mod sdirk4;
 pub mod step;
 mod tableau;

@@ -13,6 +13,14 @@ pub trait NewtonMatrix {
     /// stage's implied derivative, generalized-α's its own ẏ), and an exact Jacobian needs
     /// none, so no caller evaluates one for it.
     fn prepare(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool;
+    /// Forms and factors W at `(t, y)` with only the Jacobian's contact part brought up to
+    /// date there, the rest kept from the last [`Self::prepare`] (a Newton iteration that
+    /// failed as points came into contact within the step needs the contact's stiffness, not
+    /// the hinges' again). By default, and wherever the Jacobian has no such split, as
+    /// [`Self::prepare`]. Returns false if W is singular.
+    fn refresh_contact(&mut self, t: f64, y: &[f64], h_gamma: f64) -> bool {
+        self.prepare(t, y, h_gamma)
+    }
     /// Refactors W for a new `hγ` with the Jacobian kept. Returns false if singular.
     fn refactor(&mut self, h_gamma: f64) -> bool;
     /// Overwrites `b` with `W⁻¹ b`.

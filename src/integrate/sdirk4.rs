@@ -7,6 +7,7 @@
 
 use super::anderson::{Anderson, SLOW};
 use super::newton::NewtonMatrix;
+use super::retries::Retries;
 use super::step::{
     Control, ErrorNorm, Limits, OdeError, OdeSystem, Stats, Step, announce_start, before_end, cut_short_lands,
     first_step_rule, norm,
@@ -75,6 +76,9 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     announce_start(t0, &y, &mut on_step)?;
     let mut h = limits.first_step.unwrap_or_else(|| first_step_rule(t0, tf)).min(tf - t0);
     let mut fresh_jacobian = true;
+    let mut contact_retries = Retries::default();
+    // The kind of the retry under way (contact part only or not), if the step is one.
+    let mut retried: Option<bool> = None;
     stats.jacobians += 1;
     if !newton.prepare(t, &y, h * GAMMA) {
         return Err(OdeError::SingularNewton { t, h });
@@ -252,6 +256,9 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 fz[i][k] = (z[i][k] - rhs[k]) * scale;
             }
         }
+        if let Some(contact_only) = retried.take() {
+            contact_retries.record(contact_only, converged);
+        }
         if !converged {
             stats.rejected += 1;
             stats.newton_failures += 1;
@@ -267,7 +274,14 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 // Retry with a fresh Jacobian before shrinking the step.
                 fresh_jacobian = true;
                 stats.jacobians += 1;
-                if !newton.prepare(t, &y, h * GAMMA) {
+                let contact_only = contact_retries.choose();
+                retried = Some(contact_only);
+                let ok = if contact_only {
+                    newton.refresh_contact(t, &y, h * GAMMA)
+                } else {
+                    newton.prepare(t, &y, h * GAMMA)
+                };
+                if !ok {
                     return Err(OdeError::SingularNewton { t, h });
                 }
             }

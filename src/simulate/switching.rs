@@ -9,7 +9,9 @@
 //! [`implicit_method`]'s cost in DOP853 steps, so the implicit method hands back once
 //! [`HAND_BACK_STEPS`] of its steps in a row were shorter than that many times the step
 //! DOP853 was held to by stability. After each hand-back DOP853 runs at least twice as many
-//! steps as before it may switch again, so two methods of equal cost cannot ping-pong.
+//! steps as before it may switch again, so two methods of equal cost cannot ping-pong, up to
+//! 16 times its first watch ([`dop853_watch`]): DOP853 held by stability is the costlier
+//! mistake.
 //! Every switch is recorded for the report ([`MethodSpan`]).
 //!
 //! Why generalized-α without contact and not SDIRK4 (which it was until generalized-α had
@@ -52,6 +54,21 @@ pub const HAND_BACK_STEPS: usize = 20;
 /// each hand-back).
 pub const FIRST_WATCH_STEPS: usize = 15;
 
+/// How many times the DOP853 watch doubles at most ([`dop853_watch`]).
+pub const MOST_DOUBLINGS: usize = 4;
+
+/// The fewest DOP853 steps before it may switch to the implicit method after `hand_backs`
+/// hand-backs: [`FIRST_WATCH_STEPS`] doubled at each, so that two methods of equal cost
+/// cannot ping-pong, but at most [`MOST_DOUBLINGS`] times (240 steps). Without the cap a
+/// run whose implicit steps shrink at every impact (the thick starshade with
+/// `contact.slip_speed = 0.01`: 11 hand-backs after it reached flat) held DOP853 at its
+/// stability limit for 2¹⁰ × 15 steps and more: 64,781 steps and 227 s, against 6,133 steps
+/// and 101 s with the cap (AMD EPYC 2-core, load ~1, 2026-12-01); runs with four hand-backs
+/// or fewer are as before.
+pub fn dop853_watch(hand_backs: usize) -> usize {
+    FIRST_WATCH_STEPS << hand_backs.min(MOST_DOUBLINGS)
+}
+
 /// Integrates from `(t0, y0)` to `t1` switching between DOP853 and SDIRK4 at `rtol`, `atol`;
 /// the spans each method took are appended to `spans`.
 #[allow(clippy::too_many_arguments)]
@@ -78,8 +95,7 @@ pub(super) fn integrate_auto(
     let (implicit_name, step_cost) = implicit_method(model);
     let mut implicit = spans.last().is_some_and(|s| s.method == implicit_name);
     let mut stable_step = spans.iter().rev().find_map(|s| s.stable_step).unwrap_or(f64::INFINITY);
-    let mut watch =
-        FIRST_WATCH_STEPS << spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1).min(20);
+    let mut hand_backs = spans.iter().filter(|s| s.method == "dop853").count().saturating_sub(1);
     if spans.is_empty() {
         out.s.spans.push(MethodSpan { from: t0, method: "dop853", why: "the start".into(), stable_step: None });
     }
@@ -117,7 +133,8 @@ pub(super) fn integrate_auto(
             };
             (limits, r)
         } else {
-            let limits = Limits { first_step: first, max_steps, stop_when_stiff: Some(watch), ..base };
+            let limits =
+                Limits { first_step: first, max_steps, stop_when_stiff: Some(dop853_watch(hand_backs)), ..base };
             let r = integrate(
                 dynamics,
                 Method::Dop853 { rtol, atol },
@@ -144,7 +161,7 @@ pub(super) fn integrate_auto(
                 ),
                 stable_step: None,
             });
-            watch *= 2;
+            hand_backs += 1;
             first = Some(stable_step);
         } else {
             stable_step = stats.last_step;
@@ -160,4 +177,22 @@ pub(super) fn integrate_auto(
     }
     total.stiff_from = total.stiff_from.or(out.s.spans.iter().find(|s| s.method == implicit_name).map(|s| s.from));
     Ok((total, newton.jacobian_counts().1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The DOP853 watch doubles at each hand-back from 15 steps and stops at 240: a run
+    /// whose implicit method hands back at every impact is never held in DOP853 for
+    /// thousands of steps at its stability limit.
+    #[test]
+    fn the_watch_doubles_up_to_its_cap() {
+        assert_eq!(dop853_watch(0), FIRST_WATCH_STEPS);
+        assert_eq!(dop853_watch(1), 2 * FIRST_WATCH_STEPS);
+        assert_eq!(dop853_watch(MOST_DOUBLINGS), 240);
+        for hand_backs in [MOST_DOUBLINGS + 1, 11, 40, usize::MAX] {
+            assert_eq!(dop853_watch(hand_backs), 240, "after {hand_backs} hand-backs");
+        }
+    }
 }

@@ -503,11 +503,14 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             self.add_pairs(&source.coupled_pairs(y));
             let (neighbours, jac_x, jac_v) = (&self.neighbours, &mut self.jac_x, &mut self.jac_v);
             // With contact and no locks, the rest's blocks first, kept for
-            // `refresh_contact`, then the contact's.
-            self.rest = None;
+            // `refresh_contact` (in the last ones' buffers), then the contact's.
+            let kept = self.rest.take();
             let mut whole = !self.has_locks && gather(neighbours, jac_x, jac_v, |add| source.rest_jacobian(y, add));
             if whole {
-                self.rest = Some((jac_x.clone(), jac_v.clone()));
+                let (mut rest_x, mut rest_v) = kept.unwrap_or_default();
+                rest_x.clone_from(jac_x);
+                rest_v.clone_from(jac_v);
+                self.rest = Some((rest_x, rest_v));
                 whole = gather(neighbours, jac_x, jac_v, |add| source.contact_jacobian(y, add));
             } else {
                 jac_x.iter_mut().flatten().for_each(|b| *b = PoseBlock::zeros());

@@ -63,7 +63,7 @@ pub const MOST_DOUBLINGS: usize = 4;
 /// run whose implicit steps shrink at every impact (the thick starshade with
 /// `contact.slip_speed = 0.01`: 11 hand-backs after it reached flat) held DOP853 at its
 /// stability limit for 2¹⁰ × 15 steps and more: 64,781 steps and 227 s, against 6,133 steps
-/// and 101 s with the cap (AMD EPYC 2-core, load ~1, 2026-12-01); runs with four hand-backs
+/// and 101 s with the cap (one run each, AMD EPYC 2-core, load ~1, 2026-12-01); runs with four hand-backs
 /// or fewer are as before.
 pub fn dop853_watch(hand_backs: usize) -> usize {
     FIRST_WATCH_STEPS << hand_backs.min(MOST_DOUBLINGS)

@@ -278,11 +278,12 @@ fn sdirk4_runs_the_release_restraint_and_agrees_with_dop853() {
 /// Membrane hinges make a thick flasher a mechanism again (docs/flasher.md, *Membrane hinges*):
 /// a 4 × 2 flasher with the starshade's hinges (1e7 N/m, 1e4 N·m/rad off the fold, 0.2 N·m/rad
 /// folds) and 1-cm panels, left 3 s from its wrap, opens as its thin twin does with the
-/// default membranes, and stalls on pins at the same shifted axes. Measured: the thin twin
-/// gains 15.8 points of its radius in the 3 s, the membranes 15.6, the pins 2.0. The
-/// bounds: within 15 % of the thin twin's gain (the thick panels' cut-out corners and their
-/// contact and friction in the wrap make the two not the same motion), and below a quarter
-/// of it on pins.
+/// default membranes, and far less on pins at the same shifted axes. Measured: the thin twin
+/// gains 15.8 points of its radius in the 3 s, the membranes 15.6, the pins 5.7 (2.0 before
+/// the thin plates' rims were rounded, 2026-12-01: their sharp edges caught each other in
+/// the wrap). The bounds: within 15 % of the thin twin's gain (the thick panels' cut-out
+/// corners and their contact and friction in the wrap make the two not the same motion),
+/// and below half of it on pins.
 #[test]
 fn membrane_hinges_let_a_stiff_thick_flasher_open_as_its_thin_twin() {
     use foldsim::generate::options::FlasherOptions;
@@ -311,5 +312,5 @@ fn membrane_hinges_let_a_stiff_thick_flasher_open_as_its_thin_twin() {
     );
     assert!(thin > 0.1, "the thin twin opens: {thin}");
     assert!((membranes - thin).abs() < 0.15 * thin, "membranes {membranes} against thin {thin}");
-    assert!(pins < 0.25 * thin, "pins {pins} against thin {thin}");
+    assert!(pins < 0.5 * thin, "pins {pins} against thin {thin}");
 }

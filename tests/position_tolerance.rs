@@ -130,40 +130,35 @@ fn refuses_what_does_not_fit() {
     assert!(e.contains("run.position_tolerance") && e.contains("run.rtol"), "{e}");
 }
 
-/// The contact panel-hub example asked 6e-9 m and 1e-9 m (of its size 1 m) with DOP853: its
-/// candidates tighten until a run or its check cannot follow the impact at 0.85 s (the step
-/// falls below the run's floor): DOP853 follows it down to rtol ~1e-11. Which of the tight
-/// runs fails first (a candidate, or the check at a quarter of its tolerance) is a matter of
-/// rounding, which any change to the order of the contact forces' sums moves (at 1e-8 m the
-/// check failed until the forces were summed per body pair, and passes since; at 1e-9 m the
-/// candidate at 4e-12 failed until samples on a wall were measured by that wall's distance
-/// alone, and its check fails since): the test asks for the refusal, not for which run. Either is a
-/// refusal of the position tolerance, said first, with the failed run's tolerance and the
-/// runs made; nothing is written.
+/// A run that fails inside the position tolerance's search is a refusal, said first, with the
+/// failed run's tolerance and the runs made; nothing is written. The contact panel-hub
+/// example asked 1e-9 m (of its size 1 m) with DOP853 and a step budget (`run.max_steps =
+/// 20000`) its tightest candidates cannot finish in: the run at rtol = atol = 4e-12 fails for
+/// its budget. (Until 2026-12-01 the example's impact at 0.85 s could not be followed below
+/// rtol ~1e-11 whatever the budget: the hub's edge points inside the panel near its edge
+/// turned their normal from the face's to the side's at once. With the thin plate's rim
+/// rounded (docs/contact.md §1) DOP853 follows it, and the example reaches 3e-10 m.)
 #[test]
-fn a_run_that_cannot_follow_the_motion_is_a_refusal() {
+fn a_run_that_fails_is_a_refusal() {
     let text = std::fs::read_to_string(common::repo("examples/contact-panel-hub.toml")).unwrap();
     let run = "rtol = 1e-9\natol = 1e-11\n";
     assert!(text.contains(run), "the example's [run] table changed: update this test");
-    for asked in ["6e-9", "1e-9"] {
-        let s =
-            Scenario::from_toml(&text.replace(run, &format!("position_tolerance = {asked}\n")), "cph.toml").unwrap();
-        let mut rows = 0;
-        let mut sink = |_: &Observation| -> Result<(), String> {
-            rows += 1;
-            Ok(())
-        };
-        let e = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect_err("refused").to_string();
-        let refusal = format!("run.position_tolerance = {asked} m not reached: ");
-        let which = e.strip_prefix(&refusal).unwrap_or_else(|| panic!("said first: {e}"));
-        assert!(
-            ["the run at rtol = atol = ", "the check of the run at rtol = atol = "]
-                .iter()
-                .any(|w| which.starts_with(w)),
-            "which run failed: {e}"
-        );
-        assert!(e.contains("failed (integration failed at t = 0.85"), "the impact: {e}");
-        assert!(e.contains("runs at rtol = atol"), "{e}");
-        assert_eq!(rows, 0);
-    }
+    let asked = "1e-9";
+    let limited = format!("position_tolerance = {asked}\nmax_steps = 20000\n");
+    let s = Scenario::from_toml(&text.replace(run, &limited), "cph.toml").unwrap();
+    let mut rows = 0;
+    let mut sink = |_: &Observation| -> Result<(), String> {
+        rows += 1;
+        Ok(())
+    };
+    let e = simulate(&s.model, &s.initial, &s.settings, &mut sink, None).expect_err("refused").to_string();
+    let refusal = format!("run.position_tolerance = {asked} m not reached: ");
+    let which = e.strip_prefix(&refusal).unwrap_or_else(|| panic!("said first: {e}"));
+    assert!(
+        ["the run at rtol = atol = ", "the check of the run at rtol = atol = "].iter().any(|w| which.starts_with(w)),
+        "which run failed: {e}"
+    );
+    assert!(e.contains("failed (integration failed at t = ") && e.contains("run.max_steps"), "the budget: {e}");
+    assert!(e.contains("runs at rtol = atol"), "{e}");
+    assert_eq!(rows, 0);
 }

@@ -24,6 +24,13 @@ pub enum SolidKind {
         convex: bool,
         /// Half the thickness, m (> 0).
         half_thickness: f64,
+        /// Radius of the rim's rounding, m (0 ≤ it < `half_thickness`): the edges between
+        /// the faces and the side walls are quarter cylinders of this radius (a thin plate's:
+        /// half its half thickness; a thick one's: 0, sharp). Inside the solid within it of
+        /// both a face and a wall the nearest surface is the rounding, so the normal turns
+        /// smoothly from the face's to the wall's instead of jumping where the two are
+        /// equally near (docs/contact.md §1).
+        rim_radius: f64,
     },
     /// A box centred on the origin with its edges along the axes.
     Cuboid {
@@ -107,6 +114,7 @@ impl Solid {
         let longest = (0..n).map(|i| dist2(polygon[i], polygon[(i + 1) % n])).fold(0.0, f64::max);
         let mut samples = Vec::new();
         let inset = if thickness <= 0.5 * longest { inset_polygon(&polygon, h) } else { None };
+        let thin = inset.is_some();
         let to_body = |p: [f64; 2], zz: f64| origin + dcm_s_b.transpose() * Vec3::new(p[0], p[1], zz);
         match inset {
             Some(inner) => {
@@ -142,7 +150,11 @@ impl Solid {
                 }
             }
         }
-        let kind = SolidKind::Prism { edges: Edge::of(&polygon), convex: is_convex(&polygon), half_thickness: h };
+        // A thin plate's rim is rounded (see `SolidKind::Prism::rim_radius`); a thick plate
+        // (a hub) keeps its sharp edges.
+        let rim_radius = if thin { 0.5 * h } else { 0.0 };
+        let kind =
+            SolidKind::Prism { edges: Edge::of(&polygon), convex: is_convex(&polygon), half_thickness: h, rim_radius };
         Self::finish(origin, dcm_s_b, kind, samples)
     }
 
@@ -260,14 +272,14 @@ impl Solid {
         let dcm: Matrix3<T> = lift(&self.dcm_s_b);
         let p = dcm * (p_in_body - self.origin_in_body.map(real::<T>));
         let (d, n) = match &self.kind {
-            SolidKind::Prism { edges, convex, half_thickness } => {
+            SolidKind::Prism { edges, convex, half_thickness, rim_radius } => {
                 let (d2, g2) = outline_distance(edges, *convex, [p.x, p.y]);
-                extrude(d2, g2, p.z, *half_thickness)
+                extrude(d2, g2, p.z, *half_thickness, *rim_radius)
             }
             SolidKind::Cylinder { radius, half_height } => {
                 let r = (p.x * p.x + p.y * p.y).sqrt();
                 let g2 = if re(r) > 0.0 { [p.x / r, p.y / r] } else { [real(1.0), real(0.0)] };
-                extrude(r - real(*radius), g2, p.z, *half_height)
+                extrude(r - real(*radius), g2, p.z, *half_height, 0.0)
             }
             SolidKind::Cuboid { half } => {
                 let q = Vector3::from_fn(|k, _| p[k].abs() - real(half[k]));
@@ -296,13 +308,13 @@ impl Solid {
     pub fn distance_and_lateral(&self, p_in_body: &Vec3) -> (f64, f64) {
         let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
         match &self.kind {
-            SolidKind::Prism { edges, convex, half_thickness } => {
+            SolidKind::Prism { edges, convex, half_thickness, rim_radius } => {
                 let (d2, g2) = outline_distance(edges, *convex, [p.x, p.y]);
-                (extrude(d2, g2, p.z, *half_thickness).0, d2)
+                (extrude(d2, g2, p.z, *half_thickness, *rim_radius).0, d2)
             }
             SolidKind::Cylinder { radius, half_height } => {
                 let d2 = (p.x * p.x + p.y * p.y).sqrt() - radius;
-                (extrude(d2, [0.0, 0.0], p.z, *half_height).0, d2)
+                (extrude(d2, [0.0, 0.0], p.z, *half_height, 0.0).0, d2)
             }
             SolidKind::Cuboid { .. } => (self.signed_distance(p_in_body).0, f64::INFINITY),
         }
@@ -315,9 +327,9 @@ impl Solid {
     /// edges (the same arithmetic as the full computation, to the last bit). `None` when the
     /// bound does not settle it.
     pub fn face_distance(&self, p_in_body: &Vec3, lateral_bound: f64) -> Option<(f64, Vec3)> {
-        let h = match &self.kind {
-            SolidKind::Prism { half_thickness, .. } => *half_thickness,
-            SolidKind::Cylinder { half_height, .. } => *half_height,
+        let (h, r) = match &self.kind {
+            SolidKind::Prism { half_thickness, rim_radius, .. } => (*half_thickness, *rim_radius),
+            SolidKind::Cylinder { half_height, .. } => (*half_height, 0.0),
             SolidKind::Cuboid { .. } => return None,
         };
         if lateral_bound >= 0.0 {
@@ -325,14 +337,19 @@ impl Solid {
         }
         let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
         let dz = p.z.abs() - h;
-        // The lateral distance d2 ≤ lateral_bound < 0 and < dz: the extrusion's face case
-        // (see `extrude`).
-        if lateral_bound >= dz {
+        if !on_face(lateral_bound, dz, r) {
             return None;
         }
         let sz = if p.z < 0.0 { -1.0 } else { 1.0 };
         Some((dz, self.dcm_s_b.transpose() * Vec3::new(0.0, 0.0, sz)))
     }
+}
+
+/// Whether a point whose lateral distance is at most `lateral_bound` (m) and whose height
+/// over the nearer face is `dz` (m) is answered by that face in the extrusion with rim
+/// radius `r` (`extrude`'s face case: not within `r` of both, and the side no nearer).
+pub(super) fn on_face(lateral_bound: f64, dz: f64, r: f64) -> bool {
+    (lateral_bound <= -r || dz <= -r) && lateral_bound < dz
 }
 
 /// Parts of at most `spacing` in a length, at least 1; an error past [`MAX_SAMPLES`] (before
@@ -357,15 +374,21 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
-/// A 2-D signed distance `d2` (gradient `g2`) extruded ±`h` along z: the 3-D signed distance
-/// and its gradient (Quílez's extrusion, exact).
-fn extrude<T: Real>(d2: T, g2: [T; 2], z: T, h: f64) -> (T, Vector3<T>) {
+/// A 2-D signed distance `d2` (gradient `g2`) extruded ±`h` along z, the edges between the
+/// faces and the side rounded with radius `r` (< `h`): the 3-D signed distance and its
+/// gradient (Quílez's extrusion, exact, of the section eroded by `r` and then grown by `r`
+/// again: his rounding). Within `r` of both a face and a side (`d2 > −r`, `dz > −r`) the
+/// nearest surface is the rounding, whose normal turns smoothly from the side's to the
+/// face's: with `r = 0` that region is outside the solid only, and inside it the normal
+/// jumps where the side and the face are equally near.
+fn extrude<T: Real>(d2: T, g2: [T; 2], z: T, h: f64, r: f64) -> (T, Vector3<T>) {
     let dz = z.abs() - real(h);
     let sz: T = if re(z) < 0.0 { real(-1.0) } else { real(1.0) };
     let zero = real::<T>(0.0);
-    if re(d2) > 0.0 && re(dz) > 0.0 {
-        let len = (d2 * d2 + dz * dz).sqrt();
-        (len, Vector3::new(g2[0] * d2 / len, g2[1] * d2 / len, sz * dz / len))
+    if re(d2) > -r && re(dz) > -r {
+        let (a, b) = (d2 + real(r), dz + real(r));
+        let len = (a * a + b * b).sqrt();
+        (len - real(r), Vector3::new(g2[0] * a / len, g2[1] * a / len, sz * b / len))
     } else if re(d2) > re(dz) {
         (d2, Vector3::new(g2[0], g2[1], zero))
     } else {
@@ -608,130 +631,4 @@ fn inset_polygon(polygon: &[[f64; 2]], r: f64) -> Option<Vec<[f64; 2]>> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The signed distance against brute force: the distance to a dense cloud of surface
-    /// points, signed by an independent inside test, at random points about each solid.
-    #[test]
-    fn signed_distance_against_surface_points() {
-        let l_shape = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(2.0, 0.0, 0.0),
-            Vec3::new(2.0, 1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(1.0, 2.0, 0.0),
-            Vec3::new(0.0, 2.0, 0.0),
-        ];
-        let plate = Solid::plate(&l_shape, 0.3, 0.1).unwrap();
-        let cube = Solid::cuboid(Vec3::new(1.0, 0.5, 0.25), Vec3::new(0.1, 0.2, 0.3), 0.1).unwrap();
-        let cyl = Solid::cylinder(0.5, 0.4, 0.1).unwrap();
-        let mut seed = 12345_u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        for (solid, lo, hi) in [
-            (&plate, Vec3::new(-0.5, -0.5, -0.5), Vec3::new(2.5, 2.5, 0.5)),
-            (&cube, Vec3::new(-0.6, -0.3, 0.0), Vec3::new(0.8, 0.7, 0.6)),
-            (&cyl, Vec3::new(-0.7, -0.7, -0.4), Vec3::new(0.7, 0.7, 0.4)),
-        ] {
-            for _ in 0..200 {
-                let p =
-                    Vec3::new(lo.x + (hi.x - lo.x) * rnd(), lo.y + (hi.y - lo.y) * rnd(), lo.z + (hi.z - lo.z) * rnd());
-                let (d, n) = solid.signed_distance(&p);
-                // Moving along the normal by a small step changes the distance by that step
-                // (the gradient of a distance has unit length and points along it).
-                let e = 1e-6;
-                let (d2, _) = solid.signed_distance(&(p + n * e));
-                assert!((d2 - d - e).abs() < 1e-9, "{:?}: gradient at {p:?}: {d} → {d2}", solid.kind);
-                // The foot of the normal is on the surface: distance zero there.
-                let foot = p - n * d;
-                assert!(solid.signed_distance(&foot).0.abs() < 1e-12, "{:?}: foot of {p:?}", solid.kind);
-            }
-        }
-    }
-
-    /// The face shortcut gives the full signed distance to the last bit wherever it answers,
-    /// and answers for points well inside a prism's or a cylinder's outline near a face.
-    #[test]
-    fn face_distance_is_the_signed_distance_where_it_answers() {
-        let square =
-            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
-        let plate = Solid::plate(&square, 0.02, 0.01).unwrap();
-        let cyl = Solid::cylinder(0.5, 0.4, 0.1).unwrap();
-        let mut seed = 777_u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        for solid in [&plate, &cyl] {
-            let mut answered = 0;
-            for _ in 0..2000 {
-                let p = Vec3::new(2.0 * rnd() - 0.5, 2.0 * rnd() - 0.5, 0.6 * rnd() - 0.3);
-                let (d, lateral) = solid.distance_and_lateral(&p);
-                assert_eq!(d, solid.signed_distance(&p).0);
-                for slack in [0.0, 1e-3] {
-                    if let Some(face) = solid.face_distance(&p, lateral + slack) {
-                        assert_eq!(face, solid.signed_distance(&p), "{:?} at {p:?}", solid.kind);
-                        answered += 1;
-                    }
-                }
-            }
-            assert!(answered > 500, "{:?}: {answered}", solid.kind);
-        }
-    }
-
-    /// A convex outline's short way ([`outline_distance`]) gives the full computation's
-    /// distance and gradient (to rounding; the gradient to 1e-9, as the nearest edge is
-    /// found by different arithmetic) inside, across an edge and past a corner, with the
-    /// same derivative in dual numbers (the exact Jacobian's path); and only convex outlines
-    /// are taken for convex.
-    #[test]
-    fn convex_outlines_take_the_nearest_line() {
-        use num_dual::Dual64;
-        let hexagon: Vec<[f64; 2]> =
-            (0..6).map(|k| (k as f64 * std::f64::consts::FRAC_PI_3).sin_cos()).map(|(s, c)| [c, s]).collect();
-        let triangle = [[0.0, 0.0], [1.0, 0.0], [0.2, 0.7]];
-        let cut = [[0.1, 0.0], [0.9, 0.0], [1.0, 0.1], [1.0, 0.6], [0.9, 0.7], [0.1, 0.7], [0.0, 0.6], [0.0, 0.1]];
-        let l_shape = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
-        let straight = [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [0.0, 1.0]];
-        assert!(is_convex(&hexagon) && is_convex(&triangle) && is_convex(&cut));
-        // Two edges in line are left to the full computation.
-        assert!(!is_convex(&l_shape) && !is_convex(&straight));
-        let mut seed = 4242_u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        for polygon in [&hexagon[..], &triangle, &cut] {
-            let edges = Edge::of(polygon);
-            let (mut inside, mut outside) = (0, 0);
-            for _ in 0..5000 {
-                let p = [2.0 * rnd() - 0.5, 2.0 * rnd() - 0.5];
-                let (d, g) = outline_distance(&edges, true, p);
-                let (d0, g0) = polygon_distance(&edges, p);
-                let close = (d - d0).abs() < 1e-12 && (g[0] - g0[0]).abs() < 1e-9 && (g[1] - g0[1]).abs() < 1e-9;
-                assert!(close, "{polygon:?} at {p:?}: {d} {g:?} against {d0} {g0:?}");
-                let (dx, _) = outline_distance(&edges, true, [Dual64::new(p[0], 1.0), Dual64::from(p[1])]);
-                let (dy, _) = outline_distance(&edges, true, [Dual64::from(p[0]), Dual64::new(p[1], 1.0)]);
-                assert!((dx.eps - g0[0]).abs() < 1e-9 && (dy.eps - g0[1]).abs() < 1e-9, "{polygon:?} at {p:?}");
-                if d0 < 0.0 { inside += 1 } else { outside += 1 }
-            }
-            assert!(inside > 300 && outside > 300, "{polygon:?}: {inside} inside, {outside} outside");
-        }
-    }
-
-    /// A thin plate's sample spheres touch its faces and sides and stay inside it.
-    #[test]
-    fn thin_plate_samples_fill_the_rim() {
-        let square =
-            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
-        let plate = Solid::plate(&square, 0.02, 0.01).unwrap();
-        assert_eq!(plate.samples.len(), 4 * 49);
-        for s in &plate.samples {
-            let (d, _) = plate.signed_distance(&s.point_in_body);
-            assert!((d + s.radius).abs() < 1e-12, "sample {s:?} at {d}");
-        }
-    }
-}
+mod tests;

@@ -94,13 +94,14 @@ impl Solid {
     /// where the point is past both (the rounded edge between them: the full computation
     /// then).
     pub fn wall_distance(&self, p_in_body: &Vec3, wall: u32) -> Option<(f64, Vec3)> {
-        let SolidKind::Prism { edges, half_thickness, .. } = &self.kind else { return None };
+        let SolidKind::Prism { edges, half_thickness, rim_radius, .. } = &self.kind else { return None };
         let edge = edges.get(wall as usize)?;
         let p = self.dcm_s_b * (p_in_body - self.origin_in_body);
         let d2 = edge.line([p.x, p.y]);
         let dz = p.z.abs() - half_thickness;
-        // `extrude`'s three cases: past both (not here), the wall, the face.
-        if d2 > 0.0 && dz > 0.0 {
+        // `extrude`'s three cases: the rim (within its radius of both; not here), the wall,
+        // the face.
+        if d2 > -rim_radius && dz > -rim_radius {
             return None;
         }
         let n = if d2 > dz {

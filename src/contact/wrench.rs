@@ -108,8 +108,9 @@ struct Side<'a> {
     /// B's solid.
     solid: &'a Solid,
     /// B's solid, when it has faces (a prism or a cylinder): its solid frame's origin in B
-    /// (m), the third row of `dcm_s_b` (B's face normal), and its half thickness (m).
-    face: Option<(Vec3, Vec3, f64)>,
+    /// (m), the third row of `dcm_s_b` (B's face normal), its half thickness (m) and its
+    /// rim's radius (m).
+    face: Option<(Vec3, Vec3, f64, f64)>,
     /// A sample's velocity against B at its place `p` in B's frame is `v0 + omega × p`
     /// (m/s, B frame; see [`Side::new`]).
     v0: Vec3,
@@ -149,13 +150,13 @@ impl<'a> Side<'a> {
 }
 
 /// A solid's face data for [`Side::face`].
-fn faces(solid: &Solid) -> Option<(Vec3, Vec3, f64)> {
-    let h = match &solid.kind {
-        SolidKind::Prism { half_thickness, .. } => *half_thickness,
-        SolidKind::Cylinder { half_height, .. } => *half_height,
+fn faces(solid: &Solid) -> Option<(Vec3, Vec3, f64, f64)> {
+    let (h, r) = match &solid.kind {
+        SolidKind::Prism { half_thickness, rim_radius, .. } => (*half_thickness, *rim_radius),
+        SolidKind::Cylinder { half_height, .. } => (*half_height, 0.0),
         SolidKind::Cuboid { .. } => return None,
     };
-    Some((solid.origin_in_body, solid.dcm_s_b.row(2).transpose(), h))
+    Some((solid.origin_in_body, solid.dcm_s_b.row(2).transpose(), h, r))
 }
 
 impl<'a> Visit for Sums<'a> {
@@ -167,7 +168,7 @@ impl<'a> Visit for Sums<'a> {
         let Some(side) = self.side.as_mut() else { return };
         let sample = &side.samples[s.index as usize];
         let lateral_bound = s.lateral + moved;
-        if let Some((origin, normal, h)) = side.face
+        if let Some((origin, normal, h, r)) = side.face
             && lateral_bound < 0.0
         {
             // `Solid::face_distance` with the same operations: the sample's centre in B, its
@@ -176,7 +177,7 @@ impl<'a> Visit for Sums<'a> {
             let q = p - origin;
             let z = normal.x * q.x + normal.y * q.y + normal.z * q.z;
             let dz = z.abs() - h;
-            if lateral_bound < dz {
+            if super::solid::on_face(lateral_bound, dz, r) {
                 let depth = sample.radius - dz;
                 if depth > 0.0 {
                     let normal = if z < 0.0 { -normal } else { normal };
@@ -243,7 +244,7 @@ mod tests {
         let vertices = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.3, 0.1, 0.0), Vec3::new(0.4, 0.9, 0.0)]
             .map(|v| turn * v + Vec3::new(0.2, -0.1, 0.05));
         let solid = Solid::plate(&vertices, 0.01, 0.01).unwrap();
-        let (origin, normal, h) = faces(&solid).unwrap();
+        let (origin, normal, h, _) = faces(&solid).unwrap();
         let mut compared = 0;
         for i in 0..2000 {
             let u = |k: usize| ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0;

@@ -23,6 +23,21 @@ impl Dynamics<'_> {
         (p, h)
     }
 
+    /// How far the momenta of `y` are from `(p0, h0)` (kg·m/s, kg·m²/s, N components, as
+    /// [`Self::momenta`] gives them): `(|P − P0|, |H − H0|)`, with the scales the run report
+    /// measures drift against at `y`, `Σ m_i |Ṙ_i|` and `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)`.
+    pub fn momentum_drift(&self, y: &[f64], p0: &Vec3, h0: &Vec3) -> ([f64; 2], [f64; 2]) {
+        let (p, h) = self.momenta(y);
+        let (mut p_scale, mut h_scale) = (0.0, 0.0);
+        for (i, b) in self.model.bodies.iter().enumerate() {
+            let m = BodyMotion::from_state(y, i);
+            let mv = m.v_in_n * b.mass;
+            p_scale += mv.norm();
+            h_scale += m.r_in_n.cross(&mv).norm() + (b.inertia_in_body * m.omega_in_body()).norm();
+        }
+        ([(p - p0).norm(), (h - h0).norm()], [p_scale, h_scale])
+    }
+
     /// Restores total linear and angular momentum to `(p0, h0)` by adding one rigid-body
     /// velocity field to every body (a uniform velocity and a rotation about the
     /// barycenter): the smallest mass-weighted correction, and one that leaves every hinge's

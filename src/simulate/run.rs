@@ -163,6 +163,8 @@ pub(super) fn prepare<'m>(
         // (Not with external loads: they change the momenta.)
         momenta: (!model.has_external() && (may_be_implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
         restore_every_step: implicit,
+        restore_on_drift: false,
+        momentum_scales: [0.0; 2],
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),
         release_at: settings.release_at,

@@ -12,6 +12,15 @@ use crate::observe::{Observation, Observer};
 use crate::state::BODY_STATE_LEN;
 use std::ops::ControlFlow;
 
+/// The momentum drift (relative to the largest momentum scales seen, the run report's) past
+/// which a step of a method that does not restore the momenta at every step (`auto`'s DOP853
+/// spans) has them restored: a hundredth of the 1e-10 the thick flashers are held to, and far
+/// above the round-off of the sums. The restoration restarts DOP853 (one right-hand side), so
+/// it comes when the drift asks for it, not at every step; without it, a thick starshade run
+/// whose `auto` handed back to DOP853 35 times ended with H 1.2e-10 of its scale off
+/// (2026-12-01).
+pub(super) const MOMENTUM_DRIFT: f64 = 1e-12;
+
 /// Receives output rows in time order.
 pub trait Sink {
     /// Takes one row.
@@ -58,8 +67,15 @@ pub(super) struct RunState {
     /// changes the angular momentum by up to the drift times the momenta).
     pub(super) momenta: Option<(crate::math::Vec3, crate::math::Vec3)>,
     /// Whether the momenta are restored after every step, output rows included (the implicit
-    /// path), rather than only after projections.
+    /// path), rather than only after projections and once they drift past
+    /// [`MOMENTUM_DRIFT`] (`auto`'s DOP853 spans).
     pub(super) restore_every_step: bool,
+    /// Whether the momenta are restored once they drift past [`MOMENTUM_DRIFT`] (`auto`'s
+    /// DOP853 spans; a run under `dop853` alone keeps its own momenta, its accuracy's measure).
+    pub(super) restore_on_drift: bool,
+    /// The largest momentum scales seen at the steps (kg·m/s, kg·m²/s; see
+    /// `Dynamics::momentum_drift`), which [`MOMENTUM_DRIFT`] is relative to.
+    pub(super) momentum_scales: [f64; 2],
     /// When the deployed fraction first reached 0.9 (from below), s.
     pub(super) deployed_90: Option<f64>,
     /// The deployed fraction at the first row, and the largest of any row (NaN without panels).
@@ -557,15 +573,26 @@ impl StreamOut<'_, '_, '_, '_> {
 
     /// Holds locked directions on their constraints once they drift, and the momenta where
     /// that or the integrator moved them. Returns whether `y` changed.
-    fn correct(&self, y: &mut [f64]) -> bool {
+    fn correct(&mut self, y: &mut [f64]) -> bool {
         let projected = self.dynamics.project(y, false);
         let mut changed = projected;
-        if let Some((p0, h0)) = &self.s.momenta
-            && (projected || self.s.restore_every_step)
+        if let Some((p0, h0)) = self.s.momenta
+            && (projected || self.s.restore_every_step || (self.s.restore_on_drift && self.drifted(y, &p0, &h0)))
         {
-            changed |= self.dynamics.restore_momentum(y, p0, h0) > 1e-15;
+            changed |= self.dynamics.restore_momentum(y, &p0, &h0) > 1e-15;
         }
         changed
+    }
+
+    /// Whether the momenta of `y` have drifted from `(p0, h0)` by more than
+    /// [`MOMENTUM_DRIFT`] of the largest scales seen so far (which this brings up to date).
+    fn drifted(&mut self, y: &[f64], p0: &crate::math::Vec3, h0: &crate::math::Vec3) -> bool {
+        let (drift, scales) = self.dynamics.momentum_drift(y, p0, h0);
+        let seen = &mut self.s.momentum_scales;
+        for k in 0..2 {
+            seen[k] = seen[k].max(scales[k]);
+        }
+        (0..2).any(|k| drift[k] > MOMENTUM_DRIFT * seen[k])
     }
 }
 

@@ -103,6 +103,7 @@ pub(super) fn integrate_auto(
         let steps_so_far = total.accepted + total.rejected;
         let max_steps = base.max_steps.saturating_sub(steps_so_far).max(1);
         out.s.restore_every_step = implicit;
+        out.s.restore_on_drift = !implicit;
         out.s.method = if implicit { implicit_name } else { "dop853" };
         let mut tracked = Tracked { out: &mut *out, end: &mut *end };
         let (limits, result) = if implicit {

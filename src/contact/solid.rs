@@ -376,11 +376,15 @@ fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// A 2-D signed distance `d2` (gradient `g2`) extruded ±`h` along z, the edges between the
 /// faces and the side rounded with radius `r` (< `h`): the 3-D signed distance and its
-/// gradient (Quílez's extrusion, exact, of the section eroded by `r` and then grown by `r`
-/// again: his rounding). Within `r` of both a face and a side (`d2 > −r`, `dz > −r`) the
-/// nearest surface is the rounding, whose normal turns smoothly from the side's to the
-/// face's: with `r = 0` that region is outside the solid only, and inside it the normal
-/// jumps where the side and the face are equally near.
+/// gradient (Quílez's extrusion of the section, rounded as he rounds: the section's corner
+/// between face and side a quarter circle). Within `r` of both a face and a side (`d2 > −r`,
+/// `dz > −r`) the nearest surface is the rounding, whose normal turns smoothly from the
+/// side's to the face's: with `r = 0` that region is outside the solid only, and inside it
+/// the normal jumps where the side and the face are equally near. Exact with `r = 0`, and
+/// with `r > 0` inside the solid and wherever the outline's nearest feature is an edge;
+/// outside, within `r` of the rim near a vertex of the outline, it lies between the sharp
+/// solid's distance and (√2 − 1) `r` more (its gradient still of unit length).
+/// (`solid/tests.rs`, `signed_distance_against_surface_points`.)
 fn extrude<T: Real>(d2: T, g2: [T; 2], z: T, h: f64, r: f64) -> (T, Vector3<T>) {
     let dz = z.abs() - real(h);
     let sz: T = if re(z) < 0.0 { real(-1.0) } else { real(1.0) };

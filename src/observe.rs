@@ -203,16 +203,13 @@ impl Observer {
         let (mut kinetic, mut p_scale, mut h_scale) = (0.0, 0.0, 0.0);
         for (b, m) in model.bodies.iter().zip(&motions) {
             let w_b = m.omega_in_body();
-            let iw_b = b.inertia_in_body * w_b;
-            let p = m.v_in_n * b.mass;
-            let orbital = m.r_in_n.cross(&p);
-            let spin = m.dcm_n_b * iw_b;
+            let q = m.momenta(b.mass, &b.inertia_in_body);
             mass_moment += m.r_in_n * b.mass;
-            momentum += p;
-            angular += orbital + spin;
-            kinetic += 0.5 * b.mass * m.v_in_n.norm_squared() + 0.5 * w_b.dot(&iw_b);
-            p_scale += p.norm();
-            h_scale += orbital.norm() + spin.norm();
+            momentum += q.linear;
+            angular += q.orbital + q.spin;
+            kinetic += 0.5 * b.mass * m.v_in_n.norm_squared() + 0.5 * w_b.dot(&(b.inertia_in_body * w_b));
+            p_scale += q.linear.norm();
+            h_scale += q.orbital.norm() + q.spin.norm();
         }
         if let Some(c) = &model.control {
             // Reaction wheels (crate::loads::control): their spin momenta join the hub's H,

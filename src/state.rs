@@ -47,6 +47,31 @@ impl BodyMotion {
     pub fn from_state(y: &[f64], i: usize) -> Self {
         Self::from_body_state(&y[BODY_STATE_LEN * i..BODY_STATE_LEN * (i + 1)])
     }
+
+    /// This body's momenta, N components, for a body of `mass` (kg) and central inertia
+    /// `inertia_in_body` (kg·m², body components): the linear momentum `m Ṙ` (kg·m/s), its
+    /// moment about N's origin `R × m Ṙ` and the spin `I ω` (kg·m²/s). The one place the
+    /// momenta's terms are formed, for their totals and for the scales their drift is
+    /// measured against.
+    pub fn momenta(&self, mass: f64, inertia_in_body: &Mat3) -> BodyMomenta {
+        let linear = self.v_in_n * mass;
+        BodyMomenta {
+            linear,
+            orbital: self.r_in_n.cross(&linear),
+            spin: self.dcm_n_b * (inertia_in_body * self.omega_in_body()),
+        }
+    }
+}
+
+/// One body's momenta, N components ([`BodyMotion::momenta`]).
+#[derive(Clone, Copy, Debug)]
+pub struct BodyMomenta {
+    /// `m Ṙ`, kg·m/s.
+    pub linear: Vec3,
+    /// `R × m Ṙ`, about N's origin, kg·m²/s.
+    pub orbital: Vec3,
+    /// `I ω`, kg·m²/s.
+    pub spin: Vec3,
 }
 
 impl<T: Real> BodyMotion<T> {

@@ -9,33 +9,37 @@ impl Dynamics<'_> {
     /// Total linear momentum (kg·m/s) and angular momentum about N's origin (kg·m²/s), N
     /// components, of state `y`, the reaction wheels' spin momenta included.
     pub fn momenta(&self, y: &[f64]) -> (Vec3, Vec3) {
-        let (mut p, mut h) = (Vec3::zeros(), Vec3::zeros());
+        let (p, h, _) = self.momenta_and_scales(y);
+        (p, h)
+    }
+
+    /// [`Self::momenta`] and the scales the run report measures their drift against,
+    /// `Σ m_i |Ṙ_i|` and `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)` with the wheels' `|h|` (as
+    /// `Observation::momentum_scale` and `angular_momentum_scale`), in one pass.
+    fn momenta_and_scales(&self, y: &[f64]) -> (Vec3, Vec3, [f64; 2]) {
+        let (mut p, mut h, mut scales) = (Vec3::zeros(), Vec3::zeros(), [0.0; 2]);
         for (i, b) in self.model.bodies.iter().enumerate() {
-            let m = BodyMotion::from_state(y, i);
-            let mv = m.v_in_n * b.mass;
-            p += mv;
-            h += m.r_in_n.cross(&mv) + m.dcm_n_b * (b.inertia_in_body * m.omega_in_body());
+            let m = BodyMotion::from_state(y, i).momenta(b.mass, &b.inertia_in_body);
+            p += m.linear;
+            h += m.orbital + m.spin;
+            scales[0] += m.linear.norm();
+            scales[1] += m.orbital.norm() + m.spin.norm();
         }
         if let Some(c) = &self.model.control {
             let w = crate::state::wheel_index(self.model);
-            h += BodyMotion::from_state(y, 0).dcm_n_b * c.wheel_momentum_in_hub(&y[w..w + c.wheels().len()]);
+            let spin = BodyMotion::from_state(y, 0).dcm_n_b * c.wheel_momentum_in_hub(&y[w..w + c.wheels().len()]);
+            h += spin;
+            scales[1] += spin.norm();
         }
-        (p, h)
+        (p, h, scales)
     }
 
     /// How far the momenta of `y` are from `(p0, h0)` (kg·m/s, kg·m²/s, N components, as
     /// [`Self::momenta`] gives them): `(|P − P0|, |H − H0|)`, with the scales the run report
-    /// measures drift against at `y`, `Σ m_i |Ṙ_i|` and `Σ (|R_i × m_i Ṙ_i| + |I_i ω_i|)`.
+    /// measures drift against at `y` (see `momenta_and_scales`).
     pub fn momentum_drift(&self, y: &[f64], p0: &Vec3, h0: &Vec3) -> ([f64; 2], [f64; 2]) {
-        let (p, h) = self.momenta(y);
-        let (mut p_scale, mut h_scale) = (0.0, 0.0);
-        for (i, b) in self.model.bodies.iter().enumerate() {
-            let m = BodyMotion::from_state(y, i);
-            let mv = m.v_in_n * b.mass;
-            p_scale += mv.norm();
-            h_scale += m.r_in_n.cross(&mv).norm() + (b.inertia_in_body * m.omega_in_body()).norm();
-        }
-        ([(p - p0).norm(), (h - h0).norm()], [p_scale, h_scale])
+        let (p, h, scales) = self.momenta_and_scales(y);
+        ([(p - p0).norm(), (h - h0).norm()], scales)
     }
 
     /// Restores total linear and angular momentum to `(p0, h0)` by adding one rigid-body

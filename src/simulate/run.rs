@@ -5,7 +5,7 @@ use super::pace::ProgressFn;
 use super::report::{Drift, RunReport, SimError};
 use super::settings::{Integrator, MAX_OUTPUT_ROWS, RunSettings};
 use super::stopped::stopped;
-use super::stream::{OutputTimes, RunState, StreamOut, Tracked};
+use super::stream::{OutputTimes, Restore, RunState, StreamOut, Tracked};
 use crate::dynamics::Dynamics;
 use crate::dynamics::newton::GraphNewton;
 use crate::integrate::{AlphaSteps, Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
@@ -162,8 +162,7 @@ pub(super) fn prepare<'m>(
         // momenta exactly without touching the internal motion (or the locked rates).
         // (Not with external loads: they change the momenta.)
         momenta: (!model.has_external() && (may_be_implicit || dynamics.has_locks())).then(|| dynamics.momenta(&y0)),
-        restore_every_step: implicit,
-        restore_on_drift: false,
+        restore: if implicit { Restore::EveryStep } else { Restore::AfterProjections },
         momentum_scales: [0.0; 2],
         deployed_90: None,
         deployed_range: (f64::NAN, f64::NAN),

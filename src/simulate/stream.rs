@@ -21,6 +21,22 @@ use std::ops::ControlFlow;
 /// (2026-12-01).
 pub(super) const MOMENTUM_DRIFT: f64 = 1e-12;
 
+/// When a run restores its initial momenta (`Dynamics::restore_momentum`); after every
+/// projection of locked directions in any case, since that moves positions at fixed
+/// velocities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Restore {
+    /// After every step, output rows included: the implicit methods, which conserve the
+    /// momenta only to their tolerance.
+    EveryStep,
+    /// Once they drift past [`MOMENTUM_DRIFT`] of their largest scales seen: `auto`'s DOP853
+    /// spans, which hand over to and from the implicit method.
+    OnDrift,
+    /// Only after projections: a run under an explicit method alone, whose momenta measure
+    /// its accuracy.
+    AfterProjections,
+}
+
 /// Receives output rows in time order.
 pub trait Sink {
     /// Takes one row.
@@ -66,13 +82,8 @@ pub(super) struct RunState {
     /// projection of locked directions (which moves positions at fixed velocities, and so
     /// changes the angular momentum by up to the drift times the momenta).
     pub(super) momenta: Option<(crate::math::Vec3, crate::math::Vec3)>,
-    /// Whether the momenta are restored after every step, output rows included (the implicit
-    /// path), rather than only after projections and once they drift past
-    /// [`MOMENTUM_DRIFT`] (`auto`'s DOP853 spans).
-    pub(super) restore_every_step: bool,
-    /// Whether the momenta are restored once they drift past [`MOMENTUM_DRIFT`] (`auto`'s
-    /// DOP853 spans; a run under `dop853` alone keeps its own momenta, its accuracy's measure).
-    pub(super) restore_on_drift: bool,
+    /// When the momenta are restored (besides after every projection of locked directions).
+    pub(super) restore: Restore,
     /// The largest momentum scales seen at the steps (kg·m/s, kg·m²/s; see
     /// `Dynamics::momentum_drift`), which [`MOMENTUM_DRIFT`] is relative to.
     pub(super) momentum_scales: [f64; 2],
@@ -250,7 +261,7 @@ impl StreamOut<'_, '_, '_, '_> {
     /// Emits every output row up to `t_end` (inclusive) from the step's dense output.
     fn emit_until(&mut self, step: &Step<'_>, t_end: f64, y_end: &[f64]) -> Result<(), SimError> {
         let tol = 1e-12 * t_end.abs().max(1.0);
-        let corrected = self.s.restore_every_step || self.dynamics.has_locks();
+        let corrected = self.s.restore == Restore::EveryStep || self.dynamics.has_locks();
         while let Some(t_out) = self.s.output_times.peek() {
             if t_out > t_end + tol {
                 break;
@@ -577,7 +588,12 @@ impl StreamOut<'_, '_, '_, '_> {
         let projected = self.dynamics.project(y, false);
         let mut changed = projected;
         if let Some((p0, h0)) = self.s.momenta
-            && (projected || self.s.restore_every_step || (self.s.restore_on_drift && self.drifted(y, &p0, &h0)))
+            && (projected
+                || match self.s.restore {
+                    Restore::EveryStep => true,
+                    Restore::OnDrift => self.drifted(y, &p0, &h0),
+                    Restore::AfterProjections => false,
+                })
         {
             changed |= self.dynamics.restore_momentum(y, &p0, &h0) > 1e-15;
         }

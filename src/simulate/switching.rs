@@ -24,7 +24,7 @@
 use super::report::{MethodSpan, SimError};
 use super::settings::RunSettings;
 use super::stopped::stopped;
-use super::stream::{StreamOut, Tracked};
+use super::stream::{Restore, StreamOut, Tracked};
 use crate::dynamics::newton::GraphNewton;
 use crate::integrate::galpha::DEFAULT_RHO_INF;
 use crate::integrate::{AlphaSteps, Limits, Method, Stats, integrate, integrate_generalized_alpha, integrate_sdirk4};
@@ -102,8 +102,7 @@ pub(super) fn integrate_auto(
     loop {
         let steps_so_far = total.accepted + total.rejected;
         let max_steps = base.max_steps.saturating_sub(steps_so_far).max(1);
-        out.s.restore_every_step = implicit;
-        out.s.restore_on_drift = !implicit;
+        out.s.restore = if implicit { Restore::EveryStep } else { Restore::OnDrift };
         out.s.method = if implicit { implicit_name } else { "dop853" };
         let mut tracked = Tracked { out: &mut *out, end: &mut *end };
         let (limits, result) = if implicit {

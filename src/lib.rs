@@ -15,7 +15,8 @@
 //! relative states, initial conditions) → [`dynamics`] (equations of motion, locks, the
 //! exact Jacobian, the hinge-graph Newton matrix) → [`observe`] (outputs) → [`simulate`]
 //! (a run) → [`linear`] (linear models and modes) → [`scenario`] (TOML files) → [`session`] (a run stepped by name: the
-//! C library's, the FMU's) → [`output`] (CSV, plots) → [`generate`] (scenario generators) →
+//! C library's, the FMU's) → [`output`] (CSV, plots) → [`verify`] (checks of a run from its
+//! outputs alone) → [`generate`] (scenario generators) →
 //! [`sweep`] (many runs of a scenario, summarised) → [`fit`] (scenario values fitted to
 //! measurements) → [`export`] (the FMU archive). `tests/layers.rs`
 //! checks it.
@@ -41,3 +42,4 @@ pub mod session;
 pub mod simulate;
 pub mod state;
 pub mod sweep;
+pub mod verify;

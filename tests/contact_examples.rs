@@ -2,223 +2,32 @@
 //! measured independently of the contact code. From every output row's poses (the CSV's
 //! `<body>_R_*` and `<body>_q_*` values) and the bodies' shapes, parry3d's GJK/EPA gives the
 //! penetration depth of every pair of solids (convex hulls of the plates' two faces, boxes,
-//! cylinders); the deepest over the run is reported against the thinner body's thickness.
+//! cylinders; `foldsim::verify::overlap`, which `foldsim overlaps` runs on a CSV); the deepest
+//! over the run is reported against the thinner body's thickness.
 
 mod common;
 
 use common::{run, scenario};
-use foldsim::model::shape::Shape;
 use foldsim::observe::Observation;
-use parry3d_f64::bounding_volume::BoundingVolume;
-use parry3d_f64::math::{Pose, Rotation, Vector};
-use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, Cylinder, SharedShape};
+use foldsim::output::table::Poses;
+use foldsim::verify::overlap::{Solids, deepest_overlaps, pose, solid};
 
-/// A body's solid for parry, with its pose in the body frame, and its thickness (m: a plate's
-/// thickness, a box's shortest edge, a cylinder's height).
-fn solid(shape: &Shape) -> (SharedShape, Pose, f64) {
-    match shape {
-        Shape::Plate { vertices, thickness } => {
-            let (vertices, thickness) = (&vertices[..], *thickness);
-            let n = vertices.len();
-            let normal =
-                (0..n).map(|i| vertices[i].cross(&vertices[(i + 1) % n])).sum::<foldsim::math::Vec3>().normalize();
-            let pts: Vec<Vector> = vertices
-                .iter()
-                .flat_map(|v| {
-                    [-0.5, 0.5].map(|s| {
-                        let p = v + normal * (s * thickness);
-                        Vector::new(p.x, p.y, p.z)
-                    })
-                })
-                .collect();
-            let hull = ConvexPolyhedron::from_convex_hull(&pts).expect("a convex plate");
-            (SharedShape::new(hull), Pose::IDENTITY, thickness)
-        }
-        Shape::Cuboid { size, center } => (
-            SharedShape::new(Cuboid::new(Vector::new(size.x / 2.0, size.y / 2.0, size.z / 2.0))),
-            Pose::from_translation(Vector::new(center.x, center.y, center.z)),
-            size.min(),
-        ),
-        // parry's cylinder is about its y axis; ours about z.
-        Shape::Cylinder { radius, height } => (
-            SharedShape::new(Cylinder::new(height / 2.0, *radius)),
-            Pose::from_parts(Vector::ZERO, Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2)),
-            *height,
-        ),
-    }
+/// The deepest overlap of any pair over the rows, measured by `foldsim::verify::overlap`
+/// (parry's GJK/EPA, apart from the contact code): (depth m, row time s, body, body, depth
+/// over the pair's thinner thickness); zeros if nothing overlaps.
+fn deepest_of(s: &foldsim::scenario::Scenario, rows: &[Observation], kind: Solids) -> (f64, f64, usize, usize, f64) {
+    let all = deepest_overlaps(&s.model, &Poses::from_observations(rows), kind, None).unwrap();
+    all.first().map_or((0.0, 0.0, 0, 0, 0.0), |o| (o.depth, o.t, o.bodies.0, o.bodies.1, o.of_thickness))
 }
 
-/// Two hinged plates meet along a crease, where their sharp-edged prisms overlap whenever
-/// the fold leaves flat (the crease exception of docs/contact.md §3): for such a pair, each
-/// plate without the strip of one thickness along the shared edge (found as the edge both
-/// polygons share when the hinge is undeformed), so that what remains overlaps only if one
-/// panel passes into the other. `None` for a pair that shares no hinge or no edge.
-fn crease_clipped(
-    s: &foldsim::scenario::Scenario,
-    shapes: &[Option<Shape>],
-    make: fn(&Shape) -> (SharedShape, Pose, f64),
-    i: usize,
-    j: usize,
-) -> Option<[(SharedShape, Pose, f64); 2]> {
-    use foldsim::math::Vec3;
-    let h = s.model.hinges.iter().find(|h| (h.parent, h.child) == (i, j) || (h.parent, h.child) == (j, i))?;
-    let (Some(Shape::Plate { vertices: vp, thickness: tp }), Some(Shape::Plate { vertices: vc, thickness: tc })) =
-        (&shapes[h.parent], &shapes[h.child])
-    else {
-        return None;
-    };
-    // The child's polygon in the parent's frame with the hinge undeformed (A = A0).
-    let dcm_p_a0 = h.dcm_a0_parent.transpose();
-    let child_in_p: Vec<Vec3> =
-        vc.iter().map(|v| h.r_a0_in_parent + dcm_p_a0 * (h.r_child_in_a + h.dcm_child_a.transpose() * v)).collect();
-    // The shared edge: an edge of the parent's outline on whose line an edge of the child's
-    // lies, overlapping it (the outlines may be trimmed at their ends; a flasher's panels
-    // also have edges on one line that do not meet: the longest overlap is the crease).
-    let on_line = |p: &Vec3, a: &Vec3, b: &Vec3| {
-        let u = (b - a).normalize();
-        let w = p - a;
-        (w - u * w.dot(&u)).norm() < 1e-6
-    };
-    // Edges of a plate's mid-plane and of its two faces (a hub prism's panels hinge on a
-    // face's outline), by the outline edge they belong to.
-    let edges = |poly: &[Vec3], t: f64| -> Vec<(usize, Vec3, Vec3)> {
-        let m = poly.len();
-        let normal = (0..m).map(|k| poly[k].cross(&poly[(k + 1) % m])).sum::<Vec3>().normalize();
-        [0.0, 0.5, -0.5]
-            .iter()
-            .flat_map(|f| (0..m).map(move |k| (k, poly[k] + normal * (f * t), poly[(k + 1) % m] + normal * (f * t))))
-            .collect()
-    };
-    let child_edges = edges(&child_in_p, *tc);
-    let overlap = |a: &Vec3, b: &Vec3, c: &Vec3, d: &Vec3| {
-        let u = (b - a).normalize();
-        let (lo, hi) = ((c - a).dot(&u).min((d - a).dot(&u)), (c - a).dot(&u).max((d - a).dot(&u)));
-        hi.min((b - a).norm()) - lo.max(0.0)
-    };
-    let (pk, ck, _) = edges(vp, *tp)
-        .into_iter()
-        .flat_map(|(k, a, b)| {
-            child_edges
-                .iter()
-                .filter(move |(_, c, d)| on_line(c, &a, &b) && on_line(d, &a, &b))
-                .map(move |(m, c, d)| (k, *m, overlap(&a, &b, c, d)))
-        })
-        .filter(|e| e.2 > 0.0)
-        .max_by(|x, y| x.2.total_cmp(&y.2))?;
-    let (pa, pb) = (vp[pk], vp[(pk + 1) % vp.len()]);
-    let w = tp.min(*tc);
-    let clip = |poly: &[Vec3], p0: Vec3, p1: Vec3| -> Vec<Vec3> {
-        let centroid = poly.iter().sum::<Vec3>() / poly.len() as f64;
-        let along = (p1 - p0).normalize();
-        let inward = {
-            let c = centroid - p0;
-            (c - along * c.dot(&along)).normalize()
-        };
-        let f = |p: &Vec3| (p - p0).dot(&inward) - w;
-        let mut out = Vec::new();
-        for k in 0..poly.len() {
-            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-            if f(&p) >= 0.0 {
-                out.push(p);
-            }
-            if (f(&p) >= 0.0) != (f(&q) >= 0.0) {
-                out.push(p + (q - p) * (f(&p) / (f(&p) - f(&q))));
-            }
-        }
-        out
-    };
-    let parent = clip(vp, pa, pb);
-    // The same edge in the child's own frame.
-    let child = clip(vc, vc[ck], vc[(ck + 1) % vc.len()]);
-    let plate = |vertices: Vec<Vec3>, thickness: f64| make(&Shape::Plate { vertices, thickness });
-    let (sp, sc) = (plate(parent, *tp), plate(child, *tc));
-    Some(if h.parent == i { [sp, sc] } else { [sc, sp] })
-}
-
-/// A thin plate (thickness at most half its longest edge) as its contact samples describe it
-/// (docs/contact.md §1): the outline moved in by t/2, swept by a ball of radius t/2 (flat
-/// faces, rounded rim), as parry's round convex hull; other shapes as [`solid`].
-fn rounded_solid(shape: &Shape) -> (SharedShape, Pose, f64) {
-    use foldsim::math::Vec3;
-    let Shape::Plate { vertices, thickness } = shape else { return solid(shape) };
-    let n = vertices.len();
-    let longest = (0..n).map(|i| (vertices[(i + 1) % n] - vertices[i]).norm()).fold(0.0, f64::max);
-    if *thickness > 0.5 * longest {
-        return solid(shape);
-    }
-    let h = 0.5 * thickness;
-    let normal = (0..n).map(|i| vertices[i].cross(&vertices[(i + 1) % n])).sum::<Vec3>().normalize();
-    let inward = |i: usize| normal.cross(&(vertices[(i + 1) % n] - vertices[i]).normalize());
-    let pts: Vec<Vector> = (0..n)
-        .flat_map(|i| {
-            let (n1, n2) = (inward((i + n - 1) % n), inward(i));
-            let p = vertices[i] + (n1 + n2) * (h / (1.0 + n1.dot(&n2)));
-            // A sliver of thickness so that the hull is a solid (1e-9 m).
-            [-1e-9, 1e-9].map(|f| {
-                let q = p + normal * f;
-                Vector::new(q.x, q.y, q.z)
-            })
-        })
-        .collect();
-    (SharedShape::round_convex_hull(&pts, h).expect("a convex plate"), Pose::IDENTITY, *thickness)
-}
-
-/// A solid for parry: its shape, its pose in the body frame, its thickness (m).
-type Parry = (SharedShape, Pose, f64);
-
-/// Body `i`'s pose in N from its centre (m) and quaternion (w, x, y, z).
-fn pose(r: &foldsim::math::Vec3, q: &[f64; 4]) -> Pose {
-    Pose::from_parts(Vector::new(r.x, r.y, r.z), Rotation::from_xyzw(q[1], q[2], q[3], q[0]).normalize())
-}
-
-/// The deepest penetration of any pair over the rows: (depth m, row time s, body, body,
-/// depth over the pair's thinner thickness).
-/// As [`deepest`], the thin plates as their contact samples describe them (`rounded_solid`).
+/// As [`deepest`], the thin plates as their contact samples describe them (rounded rims).
 fn deepest_rounded(s: &foldsim::scenario::Scenario, rows: &[Observation]) -> (f64, f64, usize, usize, f64) {
-    deepest_of(s, rows, rounded_solid)
+    deepest_of(s, rows, Solids::Sampled)
 }
 
+/// The plates as sharp prisms.
 fn deepest(s: &foldsim::scenario::Scenario, rows: &[Observation]) -> (f64, f64, usize, usize, f64) {
-    deepest_of(s, rows, solid)
-}
-
-fn deepest_of(
-    s: &foldsim::scenario::Scenario,
-    rows: &[Observation],
-    make: fn(&Shape) -> (SharedShape, Pose, f64),
-) -> (f64, f64, usize, usize, f64) {
-    let shapes: Vec<Option<Shape>> = s.model.bodies.iter().map(|b| b.shape.clone()).collect();
-    let solids: Vec<Option<(SharedShape, Pose, f64)>> = shapes.iter().map(|b| b.as_ref().map(make)).collect();
-    let n = solids.len();
-    let clipped: std::collections::HashMap<(usize, usize), [Parry; 2]> = (0..n)
-        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
-        .filter_map(|(i, j)| Some(((i, j), crease_clipped(s, &shapes, make, i, j)?)))
-        .collect();
-    let mut worst = (0.0, 0.0, 0, 0, 0.0);
-    for o in rows {
-        for i in 0..n {
-            for j in i + 1..n {
-                let (Some(si), Some(sj)) = (&solids[i], &solids[j]) else { continue };
-                let [(gi, li, ti), (gj, lj, tj)] = match clipped.get(&(i, j)) {
-                    Some([a, b]) => [a, b],
-                    None => [si, sj],
-                };
-                let (pi, pj) =
-                    (pose(&o.body_r_in_n[i], &o.body_quat[i]) * *li, pose(&o.body_r_in_n[j], &o.body_quat[j]) * *lj);
-                // Bounding boxes apart: no contact (parry's own broad-phase test; exact).
-                if !gi.compute_aabb(&pi).intersects(&gj.compute_aabb(&pj)) {
-                    continue;
-                }
-                let c = parry3d_f64::query::contact(&pi, gi.as_ref(), &pj, gj.as_ref(), 0.0).expect("supported pair");
-                if let Some(c) = c
-                    && -c.dist > worst.0
-                {
-                    worst = (-c.dist, o.t, i, j, -c.dist / ti.min(*tj));
-                }
-            }
-        }
-    }
-    worst
+    deepest_of(s, rows, Solids::Sharp)
 }
 
 /// Every contact example under DOP853 (as shipped) and SDIRK4 (at rtol 1e-6): the deepest
@@ -313,8 +122,8 @@ fn thick_flasher_stows_in_layers_without_overlap() {
     assert!(text.contains("[contact]"), "a thick flasher comes with contact");
     let s = foldsim::scenario::Scenario::from_toml(&text, "thick.toml").unwrap_or_else(|e| panic!("{e}"));
     let (y, _) = foldsim::kinematics::initial_state(&s.model, &s.initial);
-    let solids: Vec<Option<(SharedShape, Pose, f64)>> =
-        s.model.bodies.iter().map(|b| b.shape.as_ref().map(solid)).collect();
+    let solids: Vec<Option<foldsim::verify::overlap::Solid>> =
+        s.model.bodies.iter().map(|b| b.shape.as_ref().map(|g| solid(g, Solids::Sharp, &b.name).unwrap())).collect();
     let at = |i: usize| {
         let m = foldsim::state::BodyMotion::from_state(&y, i);
         let q = foldsim::math::quat_from_dcm(&m.dcm_n_b);

@@ -382,37 +382,7 @@ fn fuzzed_csv_read_back_ends_in_frames_or_an_error() {
     let lines: Vec<&str> = text.lines().collect();
     let (mut framed, mut refused) = (0, 0);
     for i in 0..n {
-        let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
-        for _ in 0..1 + rng.below(3) {
-            let k = rng.below(out.len());
-            match rng.below(7) {
-                0 => {
-                    let mut f: Vec<String> = out[k].split(',').map(str::to_string).collect();
-                    let j = rng.below(f.len());
-                    f[j] = rng
-                        .pick(&["nan", "inf", "-inf", "", "x", "1e308", "-1e308", "0", "1e-320", "  3  "])
-                        .to_string();
-                    out[k] = f.join(",");
-                }
-                1 => {
-                    out.remove(k);
-                    if out.is_empty() {
-                        out.push(String::new());
-                    }
-                }
-                2 => {
-                    let j = rng.below(out.len());
-                    out.swap(k, j);
-                }
-                3 => {
-                    let cut = rng.below(out[k].len() + 1);
-                    out[k].truncate(cut);
-                }
-                4 => out[k].push_str(",9"),
-                5 => out[0] = out[0].replacen(rng.pick(&["hub_q_w", "p1_R_x", "t", "p2_yaw"]), "zz", 1),
-                _ => out.insert(k, out[k].clone()),
-            }
-        }
+        let out = mutated_csv(&lines, &mut rng, &["hub_q_w", "p1_R_x", "t", "p2_yaw"]);
         let file = dir.join("fuzz.csv");
         std::fs::write(&file, out.join("\n")).unwrap();
         let outcome = catch_unwind(AssertUnwindSafe(|| {
@@ -432,4 +402,86 @@ fn fuzzed_csv_read_back_ends_in_frames_or_an_error() {
     }
     eprintln!("fuzz CSV read-back (seed {seed}): {n} inputs: {framed} animated, {refused} refused in words");
     assert!(framed > 0 && refused > 0, "the fuzzer reaches both outcomes");
+}
+
+/// A finished run's CSV lines with one to three mutations: a field replaced, a line dropped,
+/// swapped, cut, lengthened or repeated, or one of `columns` renamed in the header.
+fn mutated_csv(lines: &[&str], rng: &mut Rng, columns: &[&str]) -> Vec<String> {
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    for _ in 0..1 + rng.below(3) {
+        let k = rng.below(out.len());
+        match rng.below(7) {
+            0 => {
+                let mut f: Vec<String> = out[k].split(',').map(str::to_string).collect();
+                let j = rng.below(f.len());
+                f[j] = rng
+                    .pick(&["nan", "inf", "-inf", "", "x", "1e308", "-1e308", "0", "1e-320", "  3  ", "1e200", "-7"])
+                    .to_string();
+                out[k] = f.join(",");
+            }
+            1 => {
+                out.remove(k);
+                if out.is_empty() {
+                    out.push(String::new());
+                }
+            }
+            2 => {
+                let j = rng.below(out.len());
+                out.swap(k, j);
+            }
+            3 => {
+                let cut = rng.below(out[k].len() + 1);
+                out[k].truncate(cut);
+            }
+            4 => out[k].push_str(",9"),
+            5 => out[0] = out[0].replacen(rng.pick(columns), "zz", 1),
+            _ => out.insert(k, out[k].clone()),
+        }
+    }
+    out
+}
+
+/// A contact run's CSV, mutated as above (`mutated_csv`), its poses measured for overlaps
+/// (`foldsim overlaps`, `foldsim::verify::overlap`) both ways: it must end in a measure or
+/// an error in words, never a panic.
+#[test]
+fn fuzzed_csv_overlap_checks_end_in_a_measure_or_an_error() {
+    use foldsim::output::table::{Table, poses_from_table};
+    use foldsim::verify::overlap::{Solids, deepest_overlaps};
+    let (n, mut rng, seed) = budget(300);
+    let text = std::fs::read_to_string(common::repo("examples/contact-panel-hub.toml"))
+        .unwrap()
+        .replace("output_step = 0.005", "output_step = 0.05");
+    let scenario = Scenario::from_toml(&text, "panel-hub").unwrap();
+    let dir = common::tmp("fuzz", "overlaps");
+    let csv = dir.join("run.csv");
+    let mut sink = foldsim::output::CsvSink::create(&csv, &scenario.columns).unwrap();
+    foldsim::simulate::simulate(&scenario.model, &scenario.initial, &scenario.settings, &mut sink, None).unwrap();
+    sink.finish().unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let (mut measured, mut refused) = (0, 0);
+    for i in 0..n {
+        let out = mutated_csv(&lines, &mut rng, &["hub_q_w", "panel_R_x", "t", "panel_q_z", "hub_R_z"]);
+        let file = dir.join("fuzz.csv");
+        std::fs::write(&file, out.join("\n")).unwrap();
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            let table = Table::read(&file)?;
+            let (poses, _) = poses_from_table(&scenario.model, &table)?;
+            for kind in [Solids::Sampled, Solids::Sharp] {
+                deepest_overlaps(&scenario.model, &poses, kind, None)?;
+            }
+            Ok::<_, String>(())
+        }));
+        match outcome {
+            Err(_) => panic!("seed {seed} input {i}: the overlap check panicked on:\n{}", out.join("\n")),
+            Ok(Ok(())) => measured += 1,
+            Ok(Err(e)) => {
+                assert!(!e.is_empty() && !e.contains("Error {") && !e.contains("{ kind"), "seed {seed} input {i}: {e}");
+                refused += 1;
+            }
+        }
+    }
+    eprintln!("fuzz overlap checks (seed {seed}): {n} inputs: {measured} measured, {refused} refused in words");
+    assert!(measured > 0 && refused > 0, "the fuzzer reaches both outcomes");
 }

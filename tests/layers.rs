@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The top-level modules, lowest layer first: each may use only those before it.
-const LAYERS: [&str; 19] = [
+const LAYERS: [&str; 20] = [
     "math",
     "integrate",
     "law",
@@ -28,6 +28,7 @@ const LAYERS: [&str; 19] = [
     "scenario",
     "session",
     "output",
+    "verify",
     "generate",
     "sweep",
     "fit",

@@ -25,7 +25,8 @@ use std::path::Path;
 pub const BYTES_PER_BODY_FRAME: usize = 28;
 
 mod frames;
-pub use frames::{Frames, Table, frames_from_table};
+pub use crate::output::table::Table;
+pub use frames::{Frames, frames_from_table};
 
 /// What was written.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,5 +1,6 @@
-//! What a run writes: CSV rows as they are made ([`csv_sink`]), PNG plots of output
-//! columns ([`plot`], feature `plot`) and of a fit's data against its run ([`fit_plot`]), and animated glTF files ([`animation`], feature
+//! What a run writes: CSV rows as they are made ([`csv_sink`]) and read back with every
+//! body's pose ([`table`]), PNG plots of output columns ([`plot`], feature `plot`) and of a
+//! fit's data against its run ([`fit_plot`]), and animated glTF files ([`animation`], feature
 //! `animation`).
 
 #[cfg(feature = "animation")]
@@ -11,6 +12,7 @@ pub mod npz;
 pub mod paths;
 #[cfg(feature = "plot")]
 pub mod plot;
+pub mod table;
 pub mod units;
 #[cfg(feature = "animation")]
 pub mod viewer;

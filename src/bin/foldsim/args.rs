@@ -284,6 +284,30 @@ pub enum Command {
         #[arg(long, short, global = true)]
         output: Option<PathBuf>,
     },
+    /// How deep any two bodies overlap over a finished run, measured from its CSV's poses
+    /// alone, apart from the contact code (parry's GJK/EPA on each body's solid;
+    /// docs/contact.md §3): the deepest pairs, each against the thinner body's thickness.
+    Overlaps {
+        /// The run's scenario file.
+        scenario: PathBuf,
+        /// The run's CSV (with every body's _R_x/y/z and _q_w/x/y/z columns).
+        #[arg(long)]
+        csv: PathBuf,
+        /// Take thin plates as sharp prisms (by default as the contact code's samples describe
+        /// them: flat faces, the rim rounded with half the thickness).
+        #[arg(long)]
+        sharp: bool,
+        /// How many pairs to list, deepest first.
+        #[arg(long, default_value_t = 5)]
+        pairs: usize,
+        /// Fail (exit status 1) if a pair overlaps deeper than this fraction of the thinner
+        /// body's thickness (0.1: ten per cent).
+        #[arg(long)]
+        fail_above: Option<f64>,
+        /// No progress lines.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Plot columns of an output CSV against time, as PNG.
     #[cfg(feature = "plot")]
     Plot {

@@ -2,7 +2,7 @@
 //! `args.rs` (what the command line takes), `run.rs` (`run`, with the animation and page
 //! targets), `report.rs` (the end-of-run report), `view.rs` (`animate`, `view`),
 //! `generate.rs` (`generate`), `sweep.rs` (`sweep`), `modes.rs` (`modes`, `equilibrium`),
-//! `export.rs` (`export fmu`).
+//! `export.rs` (`export fmu`), `overlaps.rs` (`overlaps`).
 
 #[macro_use]
 mod out;
@@ -11,6 +11,7 @@ mod export;
 mod fit;
 mod generate;
 mod modes;
+mod overlaps;
 mod report;
 mod run;
 mod sweep;
@@ -125,6 +126,9 @@ fn main() -> ExitCode {
                 };
                 generate::generate(shape, &p, output)
             }
+        }
+        Command::Overlaps { scenario, csv, sharp, pairs, fail_above, quiet } => {
+            overlaps::overlaps(&scenario, &csv, sharp, pairs, fail_above, quiet)
         }
         #[cfg(feature = "plot")]
         Command::Plot { csv, columns, degrees, title, output } => {

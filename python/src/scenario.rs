@@ -224,6 +224,45 @@ impl Scenario {
         crate::simulation::Simulation::start(scenario, columns)
     }
 
+    /// How deep any two bodies overlap over a run given as its columns (`names`, `columns`:
+    /// one list of values per name, every list one value per row) or as the CSV at `csv`:
+    /// one dict per overlapping pair (`body_a`, `body_b`, `depth` m, `of_thickness`, `t` s),
+    /// deepest first; thin plates as the contact samples describe them or, with `sharp`, as
+    /// sharp prisms (docs/contact.md §3).
+    #[pyo3(signature = (names = None, columns = None, csv = None, sharp = false))]
+    fn overlaps<'py>(
+        &self,
+        py: Python<'py>,
+        names: Option<Vec<String>>,
+        columns: Option<Vec<Vec<f64>>>,
+        csv: Option<PathBuf>,
+        sharp: bool,
+    ) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+        let table = match (names, columns, csv) {
+            (Some(header), Some(columns), None) => {
+                if header.len() != columns.len() {
+                    return Err(PyValueError::new_err(format!(
+                        "overlaps: {} names for {} columns",
+                        header.len(),
+                        columns.len()
+                    )));
+                }
+                let rows = columns.first().map_or(0, Vec::len);
+                if let Some((name, c)) = header.iter().zip(&columns).find(|(_, c)| c.len() != rows) {
+                    return Err(PyValueError::new_err(format!(
+                        "overlaps: column {name} has {} values where the first has {rows}",
+                        c.len()
+                    )));
+                }
+                let rows = (0..rows).map(|k| columns.iter().map(|c| c[k]).collect()).collect();
+                foldsim::output::table::Table { header, rows }
+            }
+            (None, None, Some(csv)) => foldsim::output::table::Table::read(&csv).map_err(PyValueError::new_err)?,
+            _ => return Err(PyTypeError::new_err("overlaps takes a run's names and columns, or a csv path")),
+        };
+        overlaps(py, &self.inner.model, &table, sharp)
+    }
+
     /// Runs the scenario with the GIL released. `columns`: names or patterns as `run.columns`
     /// takes them (default: the scenario's). Returns (names, arrays, report). Ctrl-C stops
     /// the run with KeyboardInterrupt.
@@ -265,6 +304,37 @@ impl Scenario {
         let d = report_dict(py, &s.model, &report)?;
         Ok((selection.names.clone(), arrays, d))
     }
+}
+
+/// How deep any two bodies overlap over a finished run: its columns by name (each one value
+/// per row, as `run` returns them) or, with `csv`, the CSV `foldsim run` wrote; measured
+/// apart from the contact code (`foldsim::verify::overlap`, docs/contact.md §3), the GIL
+/// released. One dict per pair that overlaps at some row, deepest first.
+fn overlaps<'py>(
+    py: Python<'py>,
+    model: &foldsim::model::Model,
+    table: &foldsim::output::table::Table,
+    sharp: bool,
+) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+    use foldsim::verify::overlap::{Solids, deepest_overlaps};
+    let kind = if sharp { Solids::Sharp } else { Solids::Sampled };
+    let found = py
+        .detach(|| {
+            let (poses, _) = foldsim::output::table::poses_from_table(model, table)?;
+            deepest_overlaps(model, &poses, kind, None)
+        })
+        .map_err(PyValueError::new_err)?;
+    let list = pyo3::types::PyList::empty(py);
+    for o in found {
+        let d = PyDict::new(py);
+        d.set_item("body_a", &model.bodies[o.bodies.0].name)?;
+        d.set_item("body_b", &model.bodies[o.bodies.1].name)?;
+        d.set_item("depth", o.depth)?;
+        d.set_item("of_thickness", o.of_thickness)?;
+        d.set_item("t", o.t)?;
+        list.append(d)?;
+    }
+    Ok(list)
 }
 
 /// A run report as a dict of Python values (docs/python.md).

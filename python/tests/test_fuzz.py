@@ -170,3 +170,61 @@ def test_python_stepping_gives_a_state_or_a_named_exception():
             raise AssertionError(f"seed {seed} input {i} (kind {kind}): {type(e).__name__}: {e}") from e
     print(f"fuzz Python stepping (seed {seed}): {n} calls: {counts}")
     assert counts["done"] > 0 and counts["refused"] > 0
+
+
+PANEL_HUB = foldsim.load(ROOT / "examples" / "contact-panel-hub.toml").with_values({"run.duration": 1.0, "run.output_step": 0.05})
+
+
+def test_python_overlaps_give_pairs_or_a_named_exception():
+    """`Scenario.overlaps` on a run's columns mutated (values NaN, inf, huge; columns dropped,
+    renamed or cut short; rows out of order) and on odd arguments: each call gives its list of
+    pairs or raises ValueError or TypeError naming what is wrong; never another exception,
+    never a crash."""
+    n = int(os.environ.get("FOLDSIM_FUZZ_INPUTS", "300"))
+    seed = int(os.environ.get("FOLDSIM_FUZZ_SEED", "1"))
+    rng = random.Random(seed)
+    base = PANEL_HUB.run()
+    counts = {"measured": 0, "refused": 0}
+    for i in range(n):
+        names = list(base.columns)
+        cols = [np.array(base[c], dtype=float) for c in names]
+        for _ in range(1 + rng.randrange(3)):
+            k = rng.randrange(len(names))
+            kind = rng.randrange(6)
+            if kind == 0:
+                cols[k] = cols[k].copy()
+                cols[k][rng.randrange(len(cols[k]))] = rng.choice([math.nan, math.inf, -math.inf, 1e300, -1e300, 0.0, 1e-320, 7.0])
+            elif kind == 1:
+                del names[k], cols[k]
+            elif kind == 2:
+                names[k] = rng.choice(["zz", "t", names[0], ""])
+            elif kind == 3:
+                cols[k] = cols[k][: rng.randrange(len(cols[k]) + 1)]
+            elif kind == 4:
+                cols = [c[::-1].copy() if rng.random() < 0.5 else c for c in cols]
+            else:
+                with np.errstate(all="ignore"):  # inf × 0 is NaN, on purpose
+                    cols[k] = cols[k] * rng.choice([0.0, -1.0, 1e6, 0.5])
+        try:
+            r = foldsim.Result(names, cols, {})
+            found = PANEL_HUB.overlaps(r, sharp=rng.random() < 0.5)
+            assert all(p["depth"] > 0.0 and math.isfinite(p["t"]) for p in found)
+            counts["measured"] += 1
+        except (ValueError, TypeError, KeyError) as e:
+            assert str(e), f"seed {seed} input {i}: an empty {type(e).__name__}"
+            counts["refused"] += 1
+        except Exception as e:  # noqa: BLE001: the point is to catch any other kind
+            raise AssertionError(f"seed {seed} input {i}: {type(e).__name__}: {e}") from e
+    for odd in [None, 3, "no-such.csv", b"x"]:
+        try:
+            PANEL_HUB.overlaps(odd)
+            raise AssertionError(f"{odd!r} was measured")
+        except (ValueError, TypeError):
+            pass
+    try:
+        PANEL_HUB.overlaps(base, sharp="yes")
+        raise AssertionError("sharp='yes' was taken")
+    except TypeError:
+        pass
+    print(f"fuzz Python overlaps (seed {seed}): {n} inputs: {counts}")
+    assert counts["measured"] > 0 and counts["refused"] > 0

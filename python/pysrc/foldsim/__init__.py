@@ -6,6 +6,7 @@
     r["h1_yaw"], r.t            # NumPy arrays, one value per output row
     r.report["steps_accepted"]  # the run report as Python values
     r.to_pandas()               # a DataFrame, when pandas is installed
+    s.overlaps(r)               # how deep any two bodies overlapped, apart from the contact code
 
     s2 = s.with_values({"hinge.h1.law.k_theta": 2.0})    # change any value by key path
     d = foldsim.from_dict({...})                          # a scenario file's structure as a dict
@@ -143,6 +144,24 @@ class Scenario:
             if bar:
                 bar.close()
         return Result(names, arrays, report)
+
+    def overlaps(self, run: "Result | str | os.PathLike", *, sharp: bool = False) -> list[dict]:
+        """How deep any two bodies overlap over a finished run of this scenario, measured
+        from its poses alone, apart from the contact code (parry's GJK/EPA on each body's
+        solid; docs/contact.md §3), as ``foldsim overlaps`` does. `run`: the `Result` of
+        ``run()`` (with every body's ``_R_*`` and ``_q_*`` columns, as by default) or the
+        path of the CSV ``foldsim run`` wrote. One dict per pair that overlaps at some row,
+        deepest first: ``body_a``, ``body_b``, ``depth`` (m), ``of_thickness`` (the depth
+        over the thinner body's thickness) and ``t`` (s). Thin plates as the contact samples
+        describe them (rims rounded with half the thickness), or as sharp prisms with
+        ``sharp=True``."""
+        if not isinstance(sharp, (bool, np.bool_)):
+            raise TypeError(f"sharp is True or False, got {sharp!r}")
+        if isinstance(run, Result):
+            return self._native.overlaps(
+                names=run.columns, columns=[np.asarray(run[c], dtype=float).tolist() for c in run.columns], sharp=bool(sharp)
+            )
+        return self._native.overlaps(csv=path_arg(run, "run"), sharp=bool(sharp))
 
     def start(self, columns: list[str] | str | None = None) -> "Simulation":
         """Starts a run to advance piece by piece with your own controller in the loop

@@ -224,6 +224,10 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
                         e.peak_force.0
                     );
                 }
+                outln!(
+                    "    independent check    foldsim overlaps SCENARIO --csv {} (the rows' poses by GJK/EPA, apart from the contact code; docs/contact.md §3)",
+                    csv.display()
+                );
             }
         }
     }

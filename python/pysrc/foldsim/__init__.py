@@ -67,6 +67,11 @@ class Result:
         return f"<foldsim.Result: {len(self.t) if 't' in self else 0} rows × {len(self.columns)} columns>"
 
 
+# The columns of a body's pose (docs/outputs.md): its centre of mass in N and its attitude, as
+# a quaternion or, in CSVs written before the quaternions, as 3-2-1 angles.
+_POSE_SUFFIXES = ("_R_x", "_R_y", "_R_z", "_q_w", "_q_x", "_q_y", "_q_z", "_yaw", "_pitch", "_roll")
+
+
 class Scenario:
     """A scenario (structure, initial state, run settings): docs/scenario.md."""
 
@@ -158,8 +163,11 @@ class Scenario:
         if not isinstance(sharp, (bool, np.bool_)):
             raise TypeError(f"sharp is True or False, got {sharp!r}")
         if isinstance(run, Result):
+            # Only the times and the poses cross over (a starshade's run has some 14,000 columns).
+            wanted = {"t"} | {b + end for b in self.bodies for end in _POSE_SUFFIXES}
+            names = [c for c in run.columns if c in wanted]
             return self._native.overlaps(
-                names=run.columns, columns=[np.asarray(run[c], dtype=float).tolist() for c in run.columns], sharp=bool(sharp)
+                names=names, columns=[np.asarray(run[c], dtype=float).tolist() for c in names], sharp=bool(sharp)
             )
         return self._native.overlaps(csv=path_arg(run, "run"), sharp=bool(sharp))
 

@@ -109,3 +109,32 @@ fn a_written_run_measures_as_the_run_in_memory() {
     }
     assert!(from_csv[0].depth > 1e-4 && from_csv[0].of_thickness < 0.1, "{:?}", from_csv[0]);
 }
+
+/// Two hinged plates meet along their crease, and the check leaves a strip of one thickness
+/// along it out of each; a plate narrower than that beside its crease (here the z-fold
+/// example's second panel cut to 15 mm across, its 2-cm thickness) leaves nothing to measure:
+/// the check says so, naming the pair, rather than measuring the crease as an overlap.
+#[test]
+fn a_plate_within_one_thickness_of_its_crease_is_named() {
+    let text = std::fs::read_to_string(common::repo("examples/contact-zfold.toml")).unwrap();
+    let narrow = text
+        .replacen(
+            "name = \"p1\"\nshape = { polygon = [[-0.5, -0.4, 0.0], [0.5, -0.4, 0.0], [0.5, 0.4, 0.0], [-0.5, 0.4, 0.0]]",
+            "name = \"p1\"\nshape = { polygon = [[-0.0075, -0.4, 0.0], [0.0075, -0.4, 0.0], [0.0075, 0.4, 0.0], [-0.0075, 0.4, 0.0]]",
+            1,
+        )
+        .replacen("a = { child_com = [0.5, -0.01, 0.0], roll_deg = -90.0 }", "a = { child_com = [0.0075, -0.01, 0.0], roll_deg = -90.0 }", 1)
+        .replacen("a0 = { position = [0.5, 0.0, -0.01], roll_deg = 90.0 }", "a0 = { position = [0.0075, 0.0, -0.01], roll_deg = 90.0 }", 1);
+    assert!(narrow.contains("[-0.0075, -0.4, 0.0]") && narrow.contains("child_com = [0.0075"), "the edits apply");
+    let s = foldsim::scenario::Scenario::from_toml(&narrow, "narrow.toml").unwrap_or_else(|e| panic!("{e}"));
+    let (y, _) = foldsim::kinematics::initial_state(&s.model, &s.initial);
+    let n = s.model.bodies.len();
+    let motions: Vec<_> = (0..n).map(|i| foldsim::state::BodyMotion::from_state(&y, i)).collect();
+    let poses = Poses {
+        times: vec![0.0],
+        r_in_n: vec![motions.iter().map(|m| m.r_in_n).collect()],
+        quat: vec![motions.iter().map(|m| foldsim::math::quat_from_dcm(&m.dcm_n_b)).collect()],
+    };
+    let err = deepest_overlaps(&s.model, &poses, Solids::Sharp, None).unwrap_err();
+    assert!(err.contains("p0 and p1") && err.contains("within one thickness (0.02 m)"), "{err}");
+}

@@ -182,6 +182,13 @@ fn crease_clipped(model: &Model, k: usize, kind: Solids) -> Result<Option<[Solid
     let parent = clip(vp, vp[pk], vp[(pk + 1) % vp.len()]);
     let child = clip(vc, vc[ck], vc[(ck + 1) % vc.len()]);
     let name = |i: usize| model.bodies[i].name.as_str();
+    if parent.len() < 3 || child.len() < 3 {
+        return Err(format!(
+            "{} and {}: a plate lies within one thickness ({w} m) of the crease they share, so an overlap cannot be told from the crease (the check leaves that strip out)",
+            name(h.parent),
+            name(h.child)
+        ));
+    }
     let plate = |vertices: Vec<Vec3>, thickness: f64, what: &str| {
         solid(&Shape::Plate { vertices, thickness }, kind, &format!("{what} without its crease with the other"))
     };

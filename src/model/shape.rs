@@ -179,15 +179,23 @@ fn diameter(vertices: &[Vec3]) -> f64 {
     vertices.iter().flat_map(|a| vertices.iter().map(move |b| (a - b).norm())).fold(0.0, f64::max)
 }
 
-/// The plate's plane: its normal by Newell's method (robust for non-convex polygons), u along
-/// the first edge, v = n × u, and the vertices' (u, v) coordinates from the first vertex.
-fn plane_frame(vertices: &[Vec3]) -> Result<PlaneFrame, String> {
+/// Newell's sum for a polygon (m², body frame): twice its area along its normal, the side its
+/// vertices turn anticlockwise about (robust for non-convex polygons).
+pub fn newell(vertices: &[Vec3]) -> Vec3 {
     let p0 = vertices[0];
     let mut normal = Vec3::zeros();
     for (i, a) in vertices.iter().enumerate() {
         let b = vertices[(i + 1) % vertices.len()];
         normal += (a - p0).cross(&(b - p0));
     }
+    normal
+}
+
+/// The plate's plane: its normal by Newell's method (robust for non-convex polygons), u along
+/// the first edge, v = n × u, and the vertices' (u, v) coordinates from the first vertex.
+fn plane_frame(vertices: &[Vec3]) -> Result<PlaneFrame, String> {
+    let p0 = vertices[0];
+    let normal = newell(vertices);
     let size = diameter(vertices);
     if normal.norm() <= 1e-12 * size * size || normal.norm().is_nan() {
         return Err("a plate's vertices enclose no area (they are collinear or repeat)".into());

@@ -55,10 +55,9 @@ fn hull(points: &[Vector], what: &str) -> Result<ConvexPolyhedron, String> {
     ConvexPolyhedron::from_convex_hull(points).ok_or_else(|| format!("{what}: its outline has no convex hull"))
 }
 
-/// A plate's unit normal (its polygon's, by Newell's sum).
+/// A plate's unit normal (its polygon's, by Newell's sum, `model::shape::newell`).
 fn plate_normal(vertices: &[Vec3]) -> Vec3 {
-    let n = vertices.len();
-    (0..n).map(|i| vertices[i].cross(&vertices[(i + 1) % n])).sum::<Vec3>().normalize()
+    crate::model::shape::newell(vertices).normalize()
 }
 
 fn vector(p: &Vec3) -> Vector {

@@ -98,9 +98,9 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     // 1,001; 114 of 603 with this bound, 14.7 s → 7.4 s). With every component in the norm
     // the relaxed rule let the tape-latch z-fold's latch chatter at rtol 1e-10.
     // `kappa` is min(0.003, √rtol) (RADAU5's rule, Hairer & Wanner's FNEWT, has 0.03 for
-    // 0.003): the stages' derivatives are implied by their equations (below), so what the
-    // iteration leaves goes into the later stages, and a tighter stop also fails less
-    // later. The thick flasher example at ten tolerances (rtol = atol 0.8–1.25e-4;
+    // 0.003): a tighter stop fails less later. It was chosen while the stages' derivatives
+    // were implied by their equations (2026-11-30 to 12-01; they are fresh again, below),
+    // with these figures: the thick flasher example at ten tolerances (rtol = atol 0.8–1.25e-4;
     // 2026-11-30): with fresh derivatives and 0.03 (this code until then) E + D 7e-6–6.4e-5
     // relative; implied with 0.03, 3–4e-4 (five tolerances); with 0.01, 2.7e-5–2.2e-4 (three
     // of ten near 2e-4); with 0.003, 1.5e-5–1.7e-4 (two of eleven near 1.6e-4) and fresh
@@ -114,7 +114,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     // 30 rtol): where the increment itself must be within `kappa`, an iteration contracting
     // at a rate θ is asked for 1/θ times more, one iteration more on most stages. At rtol 1e-4
     // (the thick flashers' default) both bounds are 0.003; tighter, the estimate's bound
-    // shrinks with rtol, for the residual left enters the later stages: the stiff grid at
+    // shrinks with rtol (measured with implied derivatives): the stiff grid at
     // rtol 1e-6 drifted 1.1e-5 of E₀ with the estimate held to 0.001 (the bound is 1e-5),
     // 8.1e-6 with 3e-5 (6.1–6.7e-6 without the estimate; 4.2e-6 for the build before, whose
     // first stages started differently). With the state's correction after each step no longer
@@ -246,15 +246,23 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 converged = false;
                 break;
             }
-            // The stage's derivative from its equation, f(y + Z_i) = (Z_i − rhs_i)/(hγ), not
-            // a fresh right-hand side: the method in its Z values (Hairer & Wanner, *Solving
-            // Ordinary Differential Equations II*, §IV.8), one evaluation fewer per stage. It
-            // differs from f at the converged Z by the residual the iteration leaves, which
-            // `kappa` bounds.
-            let scale = 1.0 / (h * GAMMA);
+            // The stage's derivative afresh, f(y + Z_i) at the converged stage, as the method
+            // defines it, not implied by the stage's equation, (Z_i − rhs_i)/(hγ) (the Z form of
+            // Hairer & Wanner, *Solving Ordinary Differential Equations II*, §IV.8, one
+            // evaluation fewer per stage, this code on 2026-11-30 and 12-01): an implied
+            // derivative carries the residual Newton leaves in the stage's rates divided by
+            // hγ into every later stage, and at kappa 0.003 of an rtol-1e-4 norm over
+            // thousands of components that residual outweighed the method's own error. On the
+            // thin 6 × 3 flasher under SDIRK4 at rtol 1e-4 (no contact) the bodies were 4.9 mm
+            // off a run at 1e-8 with implied derivatives and 0.081 mm with fresh ones, in the
+            // same steps (3,286 and 3,269); E + D 2.2e-4 → 2.9e-5 relative; 32 % more
+            // right-hand sides (docs/architecture.md, *Implicit integration*, for the
+            // other cases and the cost).
             for k in 0..n {
-                fz[i][k] = (z[i][k] - rhs[k]) * scale;
+                yi[k] = y[k] + z[i][k];
             }
+            system.rhs(t + C[i] * h, &yi, &mut fz[i]);
+            stats.rhs_evaluations += 1;
         }
         if let Some(contact_only) = retried.take() {
             contact_retries.record(contact_only, converged);

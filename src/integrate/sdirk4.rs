@@ -253,11 +253,11 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             // derivative carries the residual Newton leaves in the stage's rates divided by
             // hγ into every later stage, and at kappa 0.003 of an rtol-1e-4 norm over
             // thousands of components that residual outweighed the method's own error. On the
-            // thin 6 × 3 flasher under SDIRK4 at rtol 1e-4 (no contact) the bodies were 4.9 mm
-            // off a run at 1e-8 with implied derivatives and 0.081 mm with fresh ones, in the
-            // same steps (3,286 and 3,269); E + D 2.2e-4 → 2.9e-5 relative; 32 % more
-            // right-hand sides (docs/architecture.md, *Implicit integration*, for the
-            // other cases and the cost).
+            // thin 6 × 3 flasher under SDIRK4 at rtol 1e-4 (no contact) the panels were up to
+            // 0.76 mm off a run at 1e-8 in its first 2 s with implied derivatives and 3.6 µm
+            // with fresh ones, in the same steps (3,286 and 3,269); E + D 2.2e-4 → 2.9e-5
+            // relative; 32 % more right-hand sides (docs/architecture.md, *Implicit
+            // integration*, for the other cases and the cost; `tests/flasher.rs`).
             for k in 0..n {
                 yi[k] = y[k] + z[i][k];
             }

@@ -4,8 +4,6 @@
 use foldsim::output::table::{Table, poses_from_table};
 use foldsim::scenario::Scenario;
 use foldsim::verify::overlap::{Solids, deepest_overlaps};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::Mutex;
 
@@ -41,15 +39,7 @@ pub(crate) fn overlaps(
     if rows == 0 {
         return Err(format!("{}: no rows: the CSV holds only its header", csv.display()));
     }
-    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::new(rows as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{spinner} row {pos}/{len} [{bar:40}] eta {eta}")
-                .expect("static progress template")
-                .progress_chars("=> "),
-        );
-        bar
-    });
+    let bar = crate::watch::progress_bar(quiet, rows as u64, "row {pos}/{len}");
     let watch = Mutex::new(crate::watch::Watch::new("foldsim overlaps", quiet, None));
     let progress = |done: usize| {
         if let Some(b) = &bar {

@@ -7,8 +7,6 @@ use foldsim::output::animation::Frames;
 use foldsim::output::paths::check_outputs;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::{Sink, simulate};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
@@ -107,15 +105,7 @@ pub(crate) fn run(
     let flag = interrupted.clone();
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
 
-    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::new(1000);
-        bar.set_style(
-            ProgressStyle::with_template("{spinner} t = {msg} [{bar:40}] {percent}% eta {eta}")
-                .expect("static progress template")
-                .progress_chars("=> "),
-        );
-        bar
-    });
+    let bar = crate::watch::progress_bar(quiet, 1000, "t = {msg} {percent}%");
     let auto = matches!(settings.integrator, foldsim::simulate::settings::Integrator::Auto { .. });
     let phase = foldsim::simulate::estimate::Phase::new(
         &scenario.model,

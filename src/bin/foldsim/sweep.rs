@@ -1,8 +1,6 @@
 //! `foldsim sweep`: a sweep's runs on every core, its table streamed to CSV.
 
 use foldsim::output::paths::{check_outputs, partial_path};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -52,15 +50,7 @@ pub(crate) fn sweep(
     let flag = stop.clone();
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
     let total = sweep.runs();
-    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::new(total as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{spinner} run {pos}/{len} {msg} [{bar:40}] eta {eta}")
-                .expect("static progress template")
-                .progress_chars("=> "),
-        );
-        bar
-    });
+    let bar = crate::watch::progress_bar(quiet, total as u64, "run {pos}/{len} {msg}");
     let started = std::time::Instant::now();
     let mut failed = 0usize;
     let mut first_error: Option<String> = None;

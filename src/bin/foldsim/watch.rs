@@ -29,6 +29,21 @@ pub(crate) const LONG: f64 = 60.0;
 /// (docs/outputs.md has the measurements).
 pub(crate) const NOTE_AFTER: f64 = 2.0;
 
+/// The progress bar a long command draws on a terminal (`None` under `--quiet` or when
+/// standard error is not a terminal, where [`Watch`] reports in lines instead): `len` steps,
+/// `counted` the text before the bar (an `indicatif` template, e.g. `"run {pos}/{len} {msg}"`).
+pub(crate) fn progress_bar(quiet: bool, len: u64, counted: &str) -> Option<indicatif::ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(len);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(&format!("{{spinner}} {counted} [{{bar:40}}] eta {{eta}}"))
+                .expect("static progress template")
+                .progress_chars("=> "),
+        );
+        bar
+    })
+}
+
 /// Watches one command's progress.
 pub(crate) struct Watch {
     what: &'static str,

@@ -306,9 +306,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             err[k] = h * e;
         }
         newton.solve(&mut err);
-        for k in 0..n {
-            yi[k] = y[k] + z[4][k];
-        }
+        // `yi` is y + Z_5 here, the last stage's fresh evaluation formed it: the step's end.
         // A NaN error (an overflow in the stages) rejects the step (`max` would drop it).
         let e = norm(&err, &yi, &rates, h, rtol, atol);
         let e = if e.is_nan() { f64::INFINITY } else { e.max(1e-10) };

@@ -12,11 +12,11 @@ use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 /// What a projection of a run with a packed start says of itself (the generator's trial and
-/// the run's note): measured, such projections have been 1.3–18 times the run's wall time
+/// the run's note): measured, such projections have been 1.3–19 times the run's wall time
 /// (docs/outputs.md, *How projections are made*; the 8 × 4 1.3× on 2026-11-29, the 6 × 3
-/// 5–9× and the thick starshade 5–9× since; on 2026-12-01 the thick starshade 18× and the
-/// 12 × 7 17×).
-pub const PACKED_START: &str = "with contact a packed start is the slowest part of a run and its first seconds cannot show when it opens: thick flashers have taken 1.3 to 18 times less than projected from them (docs/outputs.md)";
+/// 5–9× and the thick starshade 5–9× since; on 2026-12-01 the thick starshade 18×, the
+/// 12 × 7 17× and the 12 × 9 with 0.6 N·m/rad folds 19×).
+pub const PACKED_START: &str = "with contact a packed start is the slowest part of a run and its first seconds cannot show when it opens: thick flashers have taken 1.3 to 19 times less than projected from them (docs/outputs.md)";
 
 /// The largest pace-up exponent a projection assumes (see [`Trend`]).
 pub const MOST_ACCELERATION: f64 = 1.4;

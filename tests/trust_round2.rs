@@ -511,6 +511,16 @@ fn contact_episodes_tell_resting_from_impacts() {
     let (_, _, report) = common::run(&thick);
     let resting = report.contact_episodes.iter().filter(|e| e.resting).count();
     assert!(resting > 10 && report.contact_episodes.iter().all(|e| e.resting == (e.start == 0.0)), "{resting}");
+    // Each episode says whether a hinge joins its pair (neighbours meeting at their crease)
+    // or none does (a strike of the structure on itself): the stowed wrap has both, layers
+    // on hinged neighbours and on panels of other gores.
+    let hinged: Vec<(usize, usize)> =
+        thick.model.hinges.iter().map(|h| (h.parent.min(h.child), h.parent.max(h.child))).collect();
+    for e in &report.contact_episodes {
+        assert_eq!(e.joined, hinged.contains(&e.bodies), "{e:?}");
+    }
+    let joined = report.contact_episodes.iter().filter(|e| e.joined).count();
+    assert!(joined > 0 && joined < report.contact_episodes.len(), "{joined} of {}", report.contact_episodes.len());
     let dir = common::tmp("trust2", "episodes");
     let out = dir.join("events.csv");
     let o = foldsim()
@@ -526,8 +536,24 @@ fn contact_episodes_tell_resting_from_impacts() {
     assert!(o.status.success(), "{}", text(&o));
     let table = std::fs::read_to_string(&out).unwrap();
     assert!(table.starts_with("body_a,body_b,kind,start_s"), "{table}");
+    assert!(table.lines().next().unwrap().ends_with(",peak_force_at_s,joined"), "{table}");
     assert_eq!(table.lines().count(), 1 + impacts.len(), "{table}");
-    assert!(table.lines().nth(1).unwrap().starts_with("hub,panel,impact,"), "{table}");
+    // The panel strikes the hub it is hinged to.
+    assert!(table.lines().skip(1).all(|l| l.starts_with("hub,panel,impact,") && l.ends_with(",true")), "{table}");
+    let o = foldsim()
+        .arg("run")
+        .arg(repo("examples/contact-panel-hub.toml"))
+        .args(["--csv", "/dev/null"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let said = text(&o);
+    assert!(
+        said.contains(" 0 between bodies no hinge joins, ")
+            && said.contains("strikes between bodies no hinge joins: none")
+            && said.contains("between hinged neighbours (their creases closing or ringing), the fastest:"),
+        "{said}"
+    );
     let o = foldsim()
         .arg("run")
         .arg(repo("examples/paper-1panel.toml"))

@@ -408,6 +408,7 @@ pub(crate) fn report_dict<'py>(
                 ed.set_item("impact_speed", e.impact_speed)?;
                 ed.set_item("deepest", e.deepest)?;
                 ed.set_item("peak_force", e.peak_force)?;
+                ed.set_item("joined", e.joined)?;
                 episodes.append(ed)?;
             }
             cd.set_item("episodes", episodes)?;

@@ -27,6 +27,8 @@ def test_contact_report_and_columns():
     force, _, _, _ = c["force_max"]
     assert force > 0.0
     assert c["dissipated"] > 0.0
+    # Every episode is the panel on the hub it is hinged to: a neighbour, not a strike.
+    assert c["episodes"] and all(e["joined"] and set(e["bodies"]) == {"panel", "hub"} for e in c["episodes"])
     rows = r.columns
     for name in ("contacts", "penetration_max", "contact_force_max"):
         assert name in rows

@@ -26,6 +26,11 @@ pub struct Episode {
     /// In contact from the start of the run (or before the launch restraint let go): the
     /// stowed package resting on itself, not an impact.
     pub resting: bool,
+    /// A hinge joins the two bodies: neighbours whose edges meet as their crease closes or
+    /// rings, as expected of them (false: bodies no hinge joins, a strike of the structure on
+    /// itself). The contact code knows nothing of hinges: the log leaves it false and the
+    /// dynamics sets it from the model's hinges when it hands the episodes on.
+    pub joined: bool,
 }
 
 /// The episodes of a run so far.
@@ -70,6 +75,7 @@ impl ContactLog {
                 peak_force: (0.0, t),
                 impact_speed: 0.0,
                 resting: t <= self.resting_until,
+                joined: false,
             });
             if depth > e.deepest.0 {
                 e.deepest = (depth, t);
@@ -96,15 +102,16 @@ impl ContactLog {
 }
 
 /// The episodes as CSV, one row each: the bodies' names, when, how deep, how hard, how fast,
-/// and whether it is the stowed package's resting contact or an impact.
+/// whether it is the stowed package's resting contact or an impact, and whether a hinge
+/// joins the two bodies.
 pub fn episodes_csv(episodes: &[Episode], names: &[&str]) -> String {
     let mut out = String::from(
-        "body_a,body_b,kind,start_s,end_s,impact_speed_m_s,deepest_m,deepest_at_s,peak_force_n,peak_force_at_s\n",
+        "body_a,body_b,kind,start_s,end_s,impact_speed_m_s,deepest_m,deepest_at_s,peak_force_n,peak_force_at_s,joined\n",
     );
     for e in episodes {
         let end = e.end.map_or(String::new(), |t| t.to_string());
         out.push_str(&format!(
-            "{},{},{},{},{end},{},{},{},{},{}\n",
+            "{},{},{},{},{end},{},{},{},{},{},{}\n",
             names[e.bodies.0],
             names[e.bodies.1],
             if e.resting { "resting" } else { "impact" },
@@ -113,7 +120,8 @@ pub fn episodes_csv(episodes: &[Episode], names: &[&str]) -> String {
             e.deepest.0,
             e.deepest.1,
             e.peak_force.0,
-            e.peak_force.1
+            e.peak_force.1,
+            e.joined
         ));
     }
     out

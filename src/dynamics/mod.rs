@@ -360,9 +360,16 @@ impl<'m> Dynamics<'m> {
         *self.contact_record.borrow()
     }
 
-    /// Every contact episode so far (crate::contact::episodes), in the order they started.
+    /// Every contact episode so far (crate::contact::episodes), in the order they started,
+    /// each marked `joined` where a hinge joins its two bodies.
     pub fn contact_episodes(&self) -> Vec<crate::contact::episodes::Episode> {
-        self.contact_log.borrow().episodes()
+        let joined: std::collections::HashSet<(usize, usize)> =
+            self.model.hinges.iter().map(|h| (h.parent.min(h.child), h.parent.max(h.child))).collect();
+        let mut episodes = self.contact_log.borrow().episodes();
+        for e in &mut episodes {
+            e.joined = joined.contains(&e.bodies);
+        }
+        episodes
     }
 
     /// Up to time `t` (s) an episode that starts is the stowed package's resting contact (the

@@ -207,22 +207,43 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
                 let episodes = &r.contact_episodes;
                 let resting = episodes.iter().filter(|e| e.resting).count();
                 let mut impacts: Vec<_> = episodes.iter().filter(|e| !e.resting).collect();
-                outln!(
-                    "    episodes             {} ({resting} resting from the start: the stowed package; {} impacts after)",
-                    episodes.len(),
-                    impacts.len()
-                );
                 impacts.sort_by(|x, y| y.impact_speed.total_cmp(&x.impact_speed));
-                for e in impacts.iter().take(3) {
-                    outln!(
-                        "      impact {} / {} at t = {:.6} s: {:.3e} m/s, deepest {:.3e} m, peak {:.4e} N",
+                // Strikes of the structure on itself (bodies no hinge joins) apart from
+                // neighbours meeting at their creases: the first is what a deployment is
+                // checked for.
+                let (joined, strikes): (Vec<&foldsim::contact::episodes::Episode>, Vec<_>) =
+                    impacts.into_iter().partition(|e| e.joined);
+                outln!(
+                    "    episodes             {} ({resting} resting from the start: the stowed package; {} impacts after: {} between bodies no hinge joins, {} between hinged neighbours)",
+                    episodes.len(),
+                    strikes.len() + joined.len(),
+                    strikes.len(),
+                    joined.len()
+                );
+                let line = |e: &foldsim::contact::episodes::Episode| {
+                    format!(
+                        "{} / {} at t = {:.6} s: {:.3e} m/s, deepest {:.3e} m, peak {:.4e} N",
                         name(e.bodies.0),
                         name(e.bodies.1),
                         e.start,
                         e.impact_speed,
                         e.deepest.0,
                         e.peak_force.0
-                    );
+                    )
+                };
+                if strikes.is_empty() {
+                    outln!("      strikes between bodies no hinge joins: none");
+                } else {
+                    outln!("      strikes between bodies no hinge joins, the fastest:");
+                    for e in strikes.iter().take(3) {
+                        outln!("        {}", line(e));
+                    }
+                }
+                if !joined.is_empty() {
+                    outln!("      between hinged neighbours (their creases closing or ringing), the fastest:");
+                    for e in joined.iter().take(2) {
+                        outln!("        {}", line(e));
+                    }
                 }
                 outln!(
                     "    independent check    foldsim overlaps SCENARIO --csv {} (the rows' poses by GJK/EPA, apart from the contact code; docs/contact.md §3)",

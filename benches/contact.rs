@@ -46,7 +46,7 @@ fn starshade(contact: &str) -> Scenario {
         thickness: 0.01,
         laws: FlasherLaws {
             k_fold: 0.2,
-            c_fold: 1.0,
+            c_fold: Some(1.0),
             k_bending: 0.2,
             c_bending: 1.0,
             k_translation: 1e7,

@@ -32,7 +32,7 @@ fn params(run: RunText) -> SheetParams {
 fn laws(c: f64) -> FlasherLaws {
     FlasherLaws {
         k_fold: 1.0,
-        c_fold: 0.05 * c,
+        c_fold: Some(0.05 * c),
         k_bending: 0.1,
         c_bending: 0.05 * c,
         k_translation: 1e6,
@@ -250,7 +250,7 @@ fn sdirk4_runs_the_release_restraint_and_agrees_with_dop853() {
             integrator: Some(integrator.into()),
             laws: FlasherLaws {
                 k_fold: 0.05,
-                c_fold: 0.5,
+                c_fold: Some(0.5),
                 k_bending: 0.05,
                 c_bending: 0.5,
                 ..FlasherOptions::default().laws

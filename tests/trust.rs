@@ -335,35 +335,83 @@ fn an_overflowing_inertia_is_not_positive_definite() {
     assert!(e.is_none(), "a large but valid inertia is taken: {e:?}");
 }
 
-/// A thick flasher's run (6 × 3, 1 cm, as generated) says in its note, two seconds in, that
-/// its packed start is the slowest part and how far such projections have been from the
-/// runs, as the generator's line does: the projection from the stowed start cannot see when
-/// the package opens (docs/outputs.md).
+/// A thick flasher (6 × 3, 1 cm, as generated, 100 s long so that its run is long enough for
+/// a note) is projected from where its packed start opens, by the generator's trial and by
+/// the run's note alike: both name the opening and neither falls back on the packed start's
+/// caveat (`estimate::PACKED_START`); the note comes only after the opening (two seconds
+/// past it; the trial's opening, at its wall time, bounds it from below: the run is the
+/// trial's run). The
+/// projections' accuracy, 0.7–0.8 of the wall time on the 6 × 3 and the thick starshade, is
+/// measured in docs/outputs.md, not here (a test does not time).
 #[test]
-fn a_packed_start_says_what_its_projection_cannot_see() {
+fn a_packed_start_is_projected_from_its_opening() {
     let dir = tmp("packed");
     let g = foldsim()
-        .args(["generate", "flasher", "--gores", "6", "--rings", "3", "--thickness", "0.01", "-o"])
+        .args(["generate", "flasher", "--gores", "6", "--rings", "3", "--thickness", "0.01", "--duration", "100", "-o"])
         .arg(dir.join("t.toml"))
         .output()
         .unwrap();
     let said = foldsim::simulate::estimate::PACKED_START;
-    assert!(g.status.success() && text(&g).contains(said), "{}", text(&g));
-    let err = quiet_run_for(&dir, "t.toml", 4000);
+    let line = text(&g).lines().find(|l| l.starts_with("expected run time")).unwrap_or_default().to_string();
+    assert!(g.status.success() && line.contains("its packed start opening at t = ") && !line.contains(said), "{line}");
+    let opened_after: f64 =
+        line.split(" s after ").nth(1).and_then(|r| r.split(' ').next()).and_then(|v| v.parse().ok()).unwrap();
+    let err = quiet_run_until(&dir, "t.toml", "note: foldsim run will take about", 120_000);
     let note =
         err.lines().find(|l| l.starts_with("note: foldsim run will take about")).unwrap_or_else(|| panic!("{err}"));
-    assert!(note.contains(said) && note.contains("bodies touching"), "{note}");
+    assert!(note.contains("its packed start opened at t = ") && !note.contains(said), "{note}");
+    let noted_after: f64 =
+        note.split(" s after ").nth(1).and_then(|r| r.split(' ').next()).and_then(|v| v.parse().ok()).unwrap();
+    // The note waits two seconds past the opening; the run's opening comes at about the
+    // trial's wall time, within a factor of two for a machine's changing load.
+    assert!(
+        noted_after > 0.5 * opened_after + 2.0,
+        "the note at {noted_after} s, the trial's opening at {opened_after} s"
+    );
+}
+
+/// `foldsim run <scenario> -q --csv out.csv` started in `dir`, its standard error piped.
+fn spawn_quiet(dir: &std::path::Path, scenario: &str) -> std::process::Child {
+    foldsim().current_dir(dir).args(["run", scenario, "-q", "--csv", "out.csv"]).stderr(Stdio::piped()).spawn().unwrap()
+}
+
+/// What `foldsim run <scenario> -q` in `dir` says on standard error until a line starting
+/// with `until` (or `millis` ms; then stopped).
+fn quiet_run_until(dir: &std::path::Path, scenario: &str, until: &str, millis: u64) -> String {
+    use std::io::BufRead;
+    let mut child = spawn_quiet(dir, scenario);
+    let stderr = child.stderr.take().unwrap();
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr).lines().map_while(Result::ok) {
+            if send.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let deadline = std::time::Instant::now() + std::time::Duration::from_millis(millis);
+    let mut said = String::new();
+    while let Some(left) = deadline.checked_duration_since(std::time::Instant::now()) {
+        match receive.recv_timeout(left) {
+            Ok(line) => {
+                said.push_str(&line);
+                said.push('\n');
+                if line.starts_with(until) {
+                    break;
+                }
+            }
+            Err(_) => break,
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    said
 }
 
 /// What `foldsim run <scenario> -q` in `dir` says on standard error in its first `millis` ms
 /// (then stopped).
 fn quiet_run_for(dir: &std::path::Path, scenario: &str, millis: u64) -> String {
-    let mut child = foldsim()
-        .current_dir(dir)
-        .args(["run", scenario, "-q", "--csv", "out.csv"])
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_quiet(dir, scenario);
     std::thread::sleep(std::time::Duration::from_millis(millis));
     child.kill().unwrap();
     let o = child.wait_with_output().unwrap();

@@ -138,7 +138,10 @@ pub fn flasher(gores: usize, rings: usize, options: Option<&Bound<'_, PyDict>>) 
             "areal_density" => &mut o.areal_density,
             "hub_mass" => &mut o.hub_mass,
             "k_fold" => &mut o.laws.k_fold,
-            "c_fold" => &mut o.laws.c_fold,
+            "c_fold" => {
+                o.laws.c_fold = Some(v.extract()?);
+                return Ok(true);
+            }
             "k_panel_bending" => &mut o.laws.k_bending,
             "c_panel_bending" => &mut o.laws.c_bending,
             "k_translation" => &mut o.laws.k_translation,

@@ -98,6 +98,15 @@ def test_generators_equal_the_cli(tmp_path: Path):
     assert "a membrane 0.025 m wide" in narrow and "7.680e1 N/m per metre of crease" in narrow, narrow
     scenario, none = foldsim.generate.flasher(5, 2, thickness=0.01, membrane_bending=0.0)
     assert "membrane hinges" not in none and 'free = "within"' not in scenario.text
+    # Thick panels' defaults, as on the command line: folds damped at 1 N·m·s/rad and SDIRK4
+    # at 1e-5, named in the report; what is given is kept and not named.
+    assert "thick panels' defaults (not given): fold damping 1 N·m·s/rad (thin: 0.05), SDIRK4 at rtol 1e-5" in shifted
+    thick, _ = foldsim.generate.flasher(5, 2, thickness=0.01)
+    assert "rz = { k = 1e0, damping = 1e0" in thick.text and "rtol = 1e-5" in thick.text
+    given, said = foldsim.generate.flasher(5, 2, thickness=0.01, c_fold=0.05, tolerance=1e-4, integrator="sdirk4")
+    assert "rz = { k = 1e0, damping = 5e-2" in given.text and "thick panels' defaults" not in said, said
+    thin, said = foldsim.generate.flasher(5, 2)
+    assert "c_theta = [1e-1, 1e-1, 5e-2]" in thin.text and "thick panels' defaults" not in said
     with pytest.raises(ValueError, match="membrane_width must be a positive number in m"):
         foldsim.generate.flasher(5, 2, thickness=0.01, membrane_width=-0.01)
     with pytest.raises(ValueError, match="membrane_damping_ratio must be a number ≥ 0"):

@@ -317,6 +317,27 @@ impl<'m> Dynamics<'m> {
         Some((ContactSummary::of(&points), touched))
     }
 
+    /// How many pairs of bodies that no hinge joins touch at `y` (0 without contact): a
+    /// stowed package's layers pressing on each other, where an opened sheet's touching
+    /// pairs are mostly hinged neighbours meeting at their creases.
+    pub fn unhinged_pairs_touching(&self, y: &[f64]) -> usize {
+        if self.model.contact.is_none() {
+            return 0;
+        }
+        let hinged: std::collections::HashSet<(usize, usize)> =
+            self.model.hinges.iter().map(|h| h.bodies_sorted()).collect();
+        let pairs: std::collections::HashSet<(usize, usize)> = self
+            .contact_points(y)
+            .iter()
+            .map(|p| {
+                let (a, b) = (p.key.body as usize, p.key.other as usize);
+                (a.min(b), a.max(b))
+            })
+            .filter(|pair| !hinged.contains(pair))
+            .collect();
+        pairs.len()
+    }
+
     /// The points whose contact changes between the last accepted state and `y`: those in
     /// contact at one and not at the other (the keys; empty without contact).
     pub fn contact_changes(&self, y: &[f64]) -> Vec<crate::contact::PointKey> {
@@ -364,7 +385,7 @@ impl<'m> Dynamics<'m> {
     /// each marked `joined` where a hinge joins its two bodies.
     pub fn contact_episodes(&self) -> Vec<crate::contact::episodes::Episode> {
         let joined: std::collections::HashSet<(usize, usize)> =
-            self.model.hinges.iter().map(|h| (h.parent.min(h.child), h.parent.max(h.child))).collect();
+            self.model.hinges.iter().map(|h| h.bodies_sorted()).collect();
         let mut episodes = self.contact_log.borrow().episodes();
         for e in &mut episodes {
             e.joined = joined.contains(&e.bodies);

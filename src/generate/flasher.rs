@@ -443,8 +443,9 @@ fn check(
 pub struct FlasherLaws {
     /// Fold creases: fold stiffness (N·m/rad) and damping (N·m·s/rad).
     pub k_fold: f64,
-    /// Fold damping, N·m·s/rad.
-    pub c_fold: f64,
+    /// Fold damping, N·m·s/rad; `None`: [`THIN_C_FOLD`] for thin panels, [`THICK_C_FOLD`] for
+    /// thick ones ([`FlasherLaws::fold_damping`]).
+    pub c_fold: Option<f64>,
     /// Diagonals (triangle model): bending stiffness, N·m/rad.
     pub k_bending: f64,
     /// Diagonal bending damping, N·m·s/rad.
@@ -472,6 +473,26 @@ pub struct FlasherLaws {
     pub membrane_damping_ratio: f64,
 }
 
+/// Fold damping of a thin flasher's creases unless given, N·m·s/rad: light, so that the sheet
+/// opens by its stored fold energy in a few seconds.
+pub const THIN_C_FOLD: f64 = 0.05;
+
+/// Fold damping of a thick flasher's creases unless given, N·m·s/rad (the starshade's value).
+/// Thick panels stand for hardware, deployed through damped hinges: at [`THIN_C_FOLD`] the
+/// 6 × 3, 1-cm flasher slams into flat with 154 J and rings for seconds against its stops and
+/// neighbours (ζ ≈ 0.13 on an outer crease; 77 % of its run's time went there), at 1 it opens
+/// on the same time scale (90 % at 1.93 s against 1.42 s; its thin twin at 1, 2.00 s) and
+/// settles (docs/flasher.md, *Damped folds*).
+pub const THICK_C_FOLD: f64 = 1.0;
+
+impl FlasherLaws {
+    /// The creases' fold damping for panels `thickness` m thick, N·m·s/rad: as given, or the
+    /// thin or thick default.
+    pub fn fold_damping(&self, thickness: f64) -> f64 {
+        self.c_fold.unwrap_or(if thickness > 0.0 { THICK_C_FOLD } else { THIN_C_FOLD })
+    }
+}
+
 /// A thick flasher's membrane hinges are this many panel thicknesses wide unless told
 /// otherwise (docs/flasher.md, *Membrane hinges*).
 pub const MEMBRANE_WIDTH_THICKNESSES: f64 = 5.0;
@@ -482,7 +503,8 @@ pub const KAPTON_125UM_BENDING: f64 = 2.5e9 * 125e-6 * 125e-6 * 125e-6 / (12.0 *
 
 impl Default for FlasherLaws {
     /// The command line's defaults, chosen so that a flasher deploys by its stored fold energy
-    /// in a few seconds: folds at 1 N·m/rad, lightly damped (0.05 N·m·s/rad); bending
+    /// in a few seconds: folds at 1 N·m/rad, lightly damped (0.05 N·m·s/rad; 1 with thick
+    /// panels, [`THICK_C_FOLD`]); bending
     /// diagonals soft (0.1 N·m/rad, 0.05 N·m·s/rad), since stiff diagonals hold the wrap
     /// folded (at 1e3 N·m/rad a 12-gore, 5-ring flasher stayed at 33 % of its radius); off-axis
     /// rotations at 1e3 N·m/rad (0.1 N·m·s/rad) and translations at 1e6 N/m (10 N·s/m), damped
@@ -494,7 +516,7 @@ impl Default for FlasherLaws {
     fn default() -> Self {
         Self {
             k_fold: 1.0,
-            c_fold: 0.05,
+            c_fold: None,
             k_bending: 0.1,
             c_bending: 0.05,
             k_translation: 1e6,
@@ -527,6 +549,9 @@ pub struct FlasherReport {
     pub hinge_axes: HingeAxes,
     /// The folding creases' membrane hinges, if any, and their count.
     pub membrane: Option<(Membrane, usize)>,
+    /// The thick panels' defaults this flasher took because they were not given, as the
+    /// report names them (e.g. `fold damping 1 N·m·s/rad`); empty for thin panels.
+    pub thick_defaults: Vec<String>,
 }
 
 /// The `[contact]` table written with thick panels.
@@ -568,7 +593,7 @@ pub fn flasher_scenario(
     let law = |a: usize, b: usize| {
         let (k_fold, c_fold, membrane) = match f.kinds.get(&(a.min(b), a.max(b))) {
             Some(CreaseKind::Diagonal) => (laws.k_bending, laws.c_bending, None),
-            _ => (laws.k_fold, laws.c_fold, membrane),
+            _ => (laws.k_fold, laws.fold_damping(p.thickness), membrane),
         };
         membranes.set(membranes.get() + usize::from(membrane.is_some()));
         CreaseLaw {
@@ -607,6 +632,7 @@ pub fn flasher_scenario(
             layers,
             hinge_axes: p.hinge_axes,
             membrane: membrane.map(|m| (m, membranes.get())),
+            thick_defaults: Vec::new(),
         },
     ))
 }

@@ -114,6 +114,13 @@ impl FlasherReport {
                 }
             }
         }
+        if !self.thick_defaults.is_empty() {
+            let _ = writeln!(
+                out,
+                "thick panels' defaults (not given): {}; hardware deploys through damped hinges, and lightly damped thick sheets ring against their stops and neighbours for seconds after reaching flat, at several times the cost (docs/flasher.md, Damped folds)",
+                self.thick_defaults.join(", ")
+            );
+        }
         let mut folds: Vec<f64> = s.strains.iter().map(|f| f.fold.to_degrees()).collect();
         folds.sort_by(f64::total_cmp);
         folds.dedup_by(|a, b| (*a - *b).abs() < 1e-6);

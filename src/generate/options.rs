@@ -2,7 +2,9 @@
 //! package take them (`foldsim generate …`, `foldsim.generate.…`): one place that says what
 //! each may be.
 
-use super::flasher::{FlasherLaws, FlasherReport, FlasherShape, MAX_GORES, PanelModel, flasher_scenario};
+use super::flasher::{
+    FlasherLaws, FlasherReport, FlasherShape, MAX_GORES, PanelModel, THICK_C_FOLD, THIN_C_FOLD, flasher_scenario,
+};
 use super::params::{MAX_PANELS, Params, RunText};
 use super::sheet::{HingeAxes, SheetParams};
 use crate::math::short;
@@ -223,11 +225,12 @@ pub struct FlasherOptions {
 /// structure (the hinges' stiff vibrations resolved, the energy kept to ~1e-9).
 pub const THIN_RUN: (&str, f64) = ("dop853", 1e-8);
 
-/// A thick flasher's (its panels in contact) unless given: SDIRK4 at 1e-4. Contact stiffens
+/// A thick flasher's (its panels in contact) unless given: SDIRK4 at 1e-5. Contact stiffens
 /// the stowed package beyond what explicit steps can take (the 6 × 3, 1 cm flasher under
-/// DOP853 at 1e-8 was projected at 8 h); at 1e-4 it ran its 5 s in about 2 min (2-core
-/// machine, load ~1.3; docs/flasher.md has the figures at each tolerance).
-pub const THICK_RUN: (&str, f64) = ("sdirk4", 1e-4);
+/// DOP853 at 1e-8 was projected at 8 h); with its folds damped at
+/// [`THICK_C_FOLD`] it runs its 5 s at 1e-5 in ~16 s with the
+/// energy balanced to ~3e-7 (1e-4: 12 s, 4e-6; docs/flasher.md, *Damped folds*).
+pub const THICK_RUN: (&str, f64) = ("sdirk4", 1e-5);
 
 impl Default for FlasherOptions {
     fn default() -> Self {
@@ -264,7 +267,6 @@ impl FlasherOptions {
                 ("areal_density", self.areal_density, d.areal_density),
                 ("hub_mass", self.hub_mass, d.hub_mass),
                 ("k_fold", l.k_fold, dl.k_fold),
-                ("c_fold", l.c_fold, dl.c_fold),
                 ("k_panel_bending", l.k_bending, dl.k_bending),
                 ("c_panel_bending", l.c_bending, dl.c_bending),
                 ("k_translation", l.k_translation, dl.k_translation),
@@ -281,6 +283,9 @@ impl FlasherOptions {
         );
         if let Some(w) = self.laws.membrane_width {
             out.push((name("membrane_width"), w));
+        }
+        if let Some(c) = self.laws.c_fold {
+            out.push((name("c_fold"), c));
         }
         if let Some(t) = self.tolerance {
             out.push((name("tolerance"), t));
@@ -331,7 +336,7 @@ impl FlasherOptions {
         }
         let l = &self.laws;
         for (v, key, unit) in [
-            (l.c_fold, "c_fold", "N·m·s/rad"),
+            (l.c_fold.unwrap_or(0.0), "c_fold", "N·m·s/rad"),
             (l.k_bending, "k_panel_bending", "N·m/rad"),
             (l.c_bending, "c_panel_bending", "N·m·s/rad"),
             (l.c_translation, "c_translation", "N·s/m"),
@@ -419,8 +424,20 @@ impl FlasherOptions {
             spin_rpm: self.spin_rpm,
             run,
         };
-        let (text, report) = flasher_scenario(&shape, &self.laws, &params)?;
+        let (text, mut report) = flasher_scenario(&shape, &self.laws, &params)?;
         loadable(&text, &self.changed(name))?;
+        if self.thickness > 0.0 {
+            if self.laws.c_fold.is_none() {
+                report.thick_defaults.push(format!("fold damping {THICK_C_FOLD} N·m·s/rad (thin: {THIN_C_FOLD})"));
+            }
+            if self.integrator.is_none() && self.tolerance.is_none() {
+                report.thick_defaults.push(format!("{} at rtol {tolerance:e}", integrator.to_uppercase()));
+            } else if self.tolerance.is_none() {
+                report.thick_defaults.push(format!("rtol {tolerance:e}"));
+            } else if self.integrator.is_none() {
+                report.thick_defaults.push(integrator.to_uppercase());
+            }
+        }
         Ok((text, report))
     }
 }
@@ -454,16 +471,48 @@ mod tests {
         (line("integrator = "), line("rtol = "))
     }
 
-    /// Thin flashers keep DOP853 at 1e-8; thick ones (in contact) get SDIRK4 at 1e-4; what is
-    /// given is kept either way.
+    /// Thin flashers keep DOP853 at 1e-8 and folds damped at 0.05 N·m·s/rad; thick ones (in
+    /// contact) get SDIRK4 at 1e-5 and folds at 1, and the report says so; what is given is
+    /// kept either way, and then the report names no default it did not take.
     #[test]
     fn thick_flashers_default_to_the_implicit_run() {
         let thin = FlasherOptions { gores: 4, rings: 1, ..FlasherOptions::default() };
         assert_eq!(run_lines(&thin), ("integrator = \"dop853\"".into(), "rtol = 1e-8".into()));
         let thick = FlasherOptions { thickness: 0.01, ..thin.clone() };
-        assert_eq!(run_lines(&thick), ("integrator = \"sdirk4\"".into(), "rtol = 1e-4".into()));
-        let given = FlasherOptions { integrator: Some("auto".into()), tolerance: Some(1e-6), ..thick };
+        assert_eq!(run_lines(&thick), ("integrator = \"sdirk4\"".into(), "rtol = 1e-5".into()));
+        let given = FlasherOptions { integrator: Some("auto".into()), tolerance: Some(1e-6), ..thick.clone() };
         assert_eq!(run_lines(&given), ("integrator = \"auto\"".into(), "rtol = 1e-6".into()));
+        // The folding creases' damping (the diagonals keep c_panel_bending) in the text and
+        // the defaults taken in the report.
+        let fold_damping = |o: &FlasherOptions| {
+            let (text, report) = o.scenario(&|k: &str| k.to_string()).unwrap();
+            // Fold stiffness 1 (1e0): thick laws `rz = { k = 1e0, damping = c`, thin
+            // `k_theta = [1e3, 1e3, 1e0], …, c_theta = [.., .., c]`.
+            let mut c: Vec<String> = text
+                .lines()
+                .filter_map(|l| match l.split("rz = { k = 1e0, damping = ").nth(1) {
+                    Some(rest) => Some(rest),
+                    None if l.contains("1e0], c_f") => l.rsplit_once(", ").map(|x| x.1),
+                    None => None,
+                })
+                .map(|v| v.split([',', ' ', '}', ']']).next().unwrap().to_string())
+                .collect();
+            c.sort();
+            c.dedup();
+            let line = report.text(false).contains("thick panels' defaults");
+            (c, report.thick_defaults, line)
+        };
+        let (thin_c, thin_taken, thin_line) = fold_damping(&thin);
+        assert!(thin_c == ["5e-2"], "{thin_c:?}");
+        assert!(thin_taken.is_empty() && !thin_line);
+        let (thick_c, taken, line) = fold_damping(&thick);
+        assert!(thick_c == ["1e0"], "{thick_c:?}");
+        assert_eq!(taken, ["fold damping 1 N·m·s/rad (thin: 0.05)", "SDIRK4 at rtol 1e-5"]);
+        assert!(line);
+        let damped = FlasherOptions { laws: FlasherLaws { c_fold: Some(0.3), ..thick.laws }, ..given };
+        let (c, taken, line) = fold_damping(&damped);
+        assert!(c == ["3e-1"], "{c:?}");
+        assert!(taken.is_empty() && !line);
     }
 
     /// A thick flasher with shifted axes stops every folding crease at flat, free on its

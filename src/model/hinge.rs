@@ -85,6 +85,12 @@ pub struct Placement {
 }
 
 impl Hinge {
+    /// The two bodies this hinge joins, the lower index first (a pair of bodies as contact
+    /// and its episodes name it).
+    pub fn bodies_sorted(&self) -> (usize, usize) {
+        (self.parent.min(self.child), self.parent.max(self.child))
+    }
+
     /// Places the body on the far side of this hinge from the pose `(R in N, [N b])` of the
     /// body on the near side, at relative attitude `[A A0]` and displacement δ (A0
     /// components, m). `reversed` is false when the near body is the hinge's parent.

@@ -21,6 +21,7 @@ mod contact_entry;
 pub mod estimate;
 pub mod pace;
 pub mod report;
+mod rerun;
 pub mod run;
 pub mod settings;
 pub mod stepper;

@@ -68,6 +68,12 @@ impl Progress<'_, '_> {
         )
     }
 
+    /// How many pairs of bodies no hinge joins touch now (0 without contact); costs one
+    /// contact evaluation.
+    pub fn unhinged_pairs_touching(&self) -> usize {
+        self.dynamics.unhinged_pairs_touching(self.y)
+    }
+
     /// With contact, what it adds up to now and how many bodies touch (now, or at an accepted
     /// step since the last output row); `None` without contact or with none touching. The
     /// output rows' record of who touched is left as it is.

@@ -218,7 +218,7 @@ pub fn deepest_overlaps(
     let mut clipped = std::collections::HashMap::new();
     for (k, h) in model.hinges.iter().enumerate() {
         if let Some([p, c]) = crease_clipped(model, k, kind)? {
-            let (a, b) = (h.parent.min(h.child), h.parent.max(h.child));
+            let (a, b) = h.bodies_sorted();
             clipped.insert((a, b), if h.parent == a { [p, c] } else { [c, p] });
         }
     }

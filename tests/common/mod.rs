@@ -175,7 +175,7 @@ pub fn starshade_laws() -> foldsim::generate::flasher::FlasherLaws {
         k_bending: 0.2,
         c_translation: 100.0,
         c_rotation: 1.0,
-        c_fold: 1.0,
+        c_fold: Some(1.0),
         c_bending: 1.0,
         ..Default::default()
     }

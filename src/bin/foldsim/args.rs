@@ -277,7 +277,7 @@ pub enum Command {
         #[arg(long, global = true)]
         duration: Option<f64>,
         /// Integrator tolerance (rtol = atol). Default 1e-8; a flasher with --thickness (in
-        /// contact) 1e-4.
+        /// contact) 1e-5.
         #[arg(long, global = true)]
         tolerance: Option<f64>,
         /// Scenario file to write.
@@ -389,9 +389,10 @@ pub struct FlasherArgs {
     /// stretched by the layers' offsets when stowed). docs/flasher.md, Thick panels.
     #[arg(long, default_value = "shifted", value_parser = ["shifted", "mid-plane"])]
     pub hinge_axes: String,
-    /// Fold damping of the creases, N·m·s/rad.
-    #[arg(long, default_value_t = FlasherOptions::default().laws.c_fold)]
-    pub c_fold: f64,
+    /// Fold damping of the creases, N·m·s/rad [default: 0.05; 1 with --thickness, as hardware
+    /// deploys through damped hinges (docs/flasher.md, Damped folds)].
+    #[arg(long)]
+    pub c_fold: Option<f64>,
     /// Bending stiffness of the diagonal hinges (triangle model), N·m/rad.
     #[arg(long, default_value_t = FlasherOptions::default().laws.k_bending)]
     pub k_panel_bending: f64,

@@ -25,15 +25,14 @@ pub(crate) fn generate(shape: Shape, p: &foldsim::generate::Params, output: Opti
 }
 
 /// How long `foldsim run` of generated scenario text will take, from a trial of half a
-/// second, or two with contact (a packed start is the slowest part of such a run: its trend
-/// needs a few seconds to show; `estimate::Trend`).
+/// second, or two with contact, and from a packed start two after it opens
+/// (`estimate::Phase`, `estimate::Trend`).
 fn expected_run_time(text: &str) -> Result<String, String> {
     let s = foldsim::scenario::Scenario::from_toml(text, "the generated scenario").map_err(|e| e.to_string())?;
     let contact = s.model.contact.is_some();
     let budget = std::time::Duration::from_millis(if contact { 2000 } else { 500 });
-    let e = foldsim::simulate::estimate::estimate(&s.model, &s.initial, &s.settings, budget).describe();
-    // Measured: a trial of a packed start cannot see when the package opens.
-    Ok(if contact { format!("{e}; {}", foldsim::simulate::estimate::PACKED_START) } else { e })
+    // A packed start's trial waits for the package to open (`estimate::Phase`).
+    Ok(foldsim::simulate::estimate::estimate(&s.model, &s.initial, &s.settings, budget).describe())
 }
 
 /// Writes a scenario to `output` through `<output>.partial` (renamed when complete), or to

@@ -10,11 +10,6 @@ use foldsim::simulate::{Sink, simulate};
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
-/// Bodies touching at a run's note from which it is taken for a packed start (a stowed
-/// package pressing on itself, as a thick flasher's nested wrap does from t = 0; a panel
-/// striking the hub is two), and the note says what its projection cannot see
-/// (`estimate::PACKED_START`).
-const PACKED_BODIES: usize = 3;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -115,6 +110,8 @@ pub(crate) fn run(
     let mut watch = crate::watch::Watch::new("foldsim run", quiet, Some(phase));
     let mut tick = |p: &foldsim::simulate::Progress<'_, '_>| {
         let t = p.t;
+        // A packed start not yet open when the note comes: its projection cannot see past it.
+        let packed = watch.still_packed();
         watch.tick(t, duration, "s", Some((p.steps, p.step, p.method)), || {
             // Before its first step a run has no step size to show (a large model with
             // contact can take seconds over it).
@@ -123,13 +120,13 @@ pub(crate) fn run(
             } else {
                 format!("no step finished yet ({})", p.method)
             };
-            // A stowed package pressing on itself (several bodies touching): its start is the
-            // run's slowest part, which the projection before it cannot see past.
-            let packed = p.touching().is_some_and(|(_, bodies)| bodies >= PACKED_BODIES);
             let caveat =
                 if packed { format!("{}; ", foldsim::simulate::estimate::PACKED_START) } else { String::new() };
             format!("{caveat}{steps}; what holds them back: {}; or shorten run.duration. Ctrl-C stops it", p.pace())
         });
+        if watch.wants_pairs() {
+            watch.pairs(p.unhinged_pairs_touching(), t);
+        }
         if let Some(b) = &bar {
             b.set_position((1000.0 * t / duration) as u64);
             b.set_message(format!("{t:.3} s"));

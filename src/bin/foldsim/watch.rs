@@ -5,7 +5,8 @@
 //! run of hours should never start in silence). Projections follow the run's trend
 //! (`foldsim::simulate::estimate::Trend`): a deployment from a packed start speeds up, and
 //! under `auto` a stiff model's first DOP853 steps are no guide to the implicit method that follows
-//! (the note waits for the switch: `estimate::Phase`).
+//! (the note waits for the switch, and a packed start's for the package to open:
+//! `estimate::Phase`).
 
 use foldsim::simulate::estimate::{Phase, Rerun, Trend, human_seconds};
 use std::io::IsTerminal;
@@ -81,6 +82,31 @@ impl Watch {
         }
     }
 
+    /// Whether the run may still be in a packed start and wants its touching pairs counted
+    /// now ([`Watch::pairs`]; `estimate::Phase`).
+    pub(crate) fn wants_pairs(&self) -> bool {
+        let wall = self.started.elapsed().as_secs_f64();
+        self.runs == 1 && self.phase.as_ref().is_some_and(|p| p.wants_pairs(wall))
+    }
+
+    /// `count` pairs of bodies no hinge joins touch at simulated time `done` (s), the last
+    /// point given to [`Watch::tick`]: where a packed start opens, the projection's trend
+    /// starts again.
+    pub(crate) fn pairs(&mut self, count: usize, done: f64) {
+        let wall = self.started.elapsed().as_secs_f64();
+        let quickened = self.trend.quickened();
+        if let Some(phase) = self.phase.as_mut()
+            && phase.pairs(count, done, wall, quickened)
+        {
+            self.trend.restart_opened();
+        }
+    }
+
+    /// Whether the run started packed and has not opened yet.
+    pub(crate) fn still_packed(&self) -> bool {
+        self.phase.as_ref().is_some_and(|p| p.still_packed())
+    }
+
     /// Progress `done` of `total` (simulated seconds, or runs), with `unit` (`s`, `runs`), in
     /// `steps` accepted steps with the last `step` (s) taken by `method` (a run's; `None` for
     /// runs of a sweep); `hint` says, when asked (once, for a long run), what holds it back
@@ -117,8 +143,14 @@ impl Watch {
             if wall + left > LONG {
                 let projected =
                     if left.is_finite() { format!("about {}", human_seconds(wall + left)) } else { "very long".into() };
+                let opened = match self.phase.as_ref().and_then(|p| p.opened()) {
+                    Some((t, w)) => format!(
+                        "; its packed start opened at t = {t:.4} s after {w:.1} s, and the rest is projected from its pace since as a deployment that keeps quickening (docs/outputs.md)"
+                    ),
+                    None => String::new(),
+                };
                 eprintln!(
-                    "note: {} will take {projected} ({done:.4} of {total} {unit} after {wall:.1} s); {}",
+                    "note: {} will take {projected} ({done:.4} of {total} {unit} after {wall:.1} s{opened}); {}",
                     self.what,
                     hint()
                 );

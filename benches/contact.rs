@@ -6,7 +6,7 @@
 //! with contact enabled and nothing touching, at most 1.5× the run without.
 //!
 //! Then full contact: the thick flasher example (`examples/flasher-thick.toml`, 5 gores, 2
-//! rings, 1-cm panels stowed in nested layers face to face) over its first 0.05 s, where
+//! rings, 1-cm panels stowed in nested layers face to face, membrane hinges) over its first 0.05 s, where
 //! every layer presses on the next: its steps (and of the rejected, Newton's), pairs and
 //! points in contact per accepted step, and where the time goes (unit costs at the stowed
 //! state times how many of each the run made: right-hand sides, of which the contact part

@@ -113,7 +113,7 @@ fn thick_flasher_stows_in_layers_without_overlap() {
     let dir = common::tmp("contact", "thick-flasher");
     let path = dir.join("thick.toml");
     let status = common::foldsim()
-        .args("generate flasher --gores 6 --rings 3 --thickness 0.01 --k-translation 1e3 -o".split(' '))
+        .args("generate flasher --gores 6 --rings 3 --thickness 0.01 --k-translation 1e3 --no-trial -o".split(' '))
         .arg(&path)
         .output()
         .unwrap();
@@ -174,13 +174,15 @@ fn thickness_report_scales_with_thickness() {
     let dir = common::tmp("contact", "thickest");
     let report = |h: f64, axes: &str| -> String {
         let out = common::foldsim()
-            .args(["generate", "flasher", "--gores", "6", "--rings", "2", "--hinge-axes", axes])
+            .args(["generate", "flasher", "--gores", "6", "--rings", "2", "--hinge-axes", axes, "--no-trial"])
             .args(["--thickness", &h.to_string(), "-o"])
             .arg(dir.join("x.toml"))
             .output()
             .unwrap();
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr)
+        let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+        assert!(!text.contains("expected run time"), "--no-trial: no trial, no projection: {text}");
+        text
     };
     let after = |text: &str, key: &str| -> f64 {
         let rest = &text[text.find(key).unwrap_or_else(|| panic!("{key} in {text}")) + key.len()..];

@@ -507,7 +507,7 @@ fn contact_episodes_tell_resting_from_impacts() {
     let first = impacts[0];
     assert!((first.start - 0.85).abs() < 0.01 && first.impact_speed > 1.0 && first.end.is_some(), "{first:?}");
     assert!(first.deepest.0 > 0.0 && first.peak_force.0 > 0.0 && first.deepest.1 >= first.start);
-    let thick = edited("flasher-thick.toml", &[("duration = 1.3", "duration = 0.002")]).unwrap();
+    let thick = edited("flasher-thick.toml", &[("duration = 1.7", "duration = 0.002")]).unwrap();
     let (_, _, report) = common::run(&thick);
     let resting = report.contact_episodes.iter().filter(|e| e.resting).count();
     assert!(resting > 10 && report.contact_episodes.iter().all(|e| e.resting == (e.start == 0.0)), "{resting}");

@@ -441,6 +441,10 @@ pub struct FlasherArgs {
     /// Print every hinge's stowed fold angle, not only the distinct ones.
     #[arg(long)]
     pub all_folds: bool,
+    /// Skip the trial run that projects the run's wall time (with thick panels it runs until
+    /// the packed start opens and two seconds more: tens of seconds for large flashers).
+    #[arg(long)]
+    pub no_trial: bool,
 }
 
 /// Where `modes` and `linearize` take the structure's state.

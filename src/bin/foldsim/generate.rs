@@ -124,7 +124,8 @@ pub(crate) fn generate_flasher(
         .map(|l| format!("# {l}\n"))
         .collect();
     let text = format!("{commented}{text}");
-    let summary = format!("{summary}expected run time: {}\n", expected_run_time(&text)?);
+    let summary =
+        if a.no_trial { summary } else { format!("{summary}expected run time: {}\n", expected_run_time(&text)?) };
     if output.is_some() {
         write_scenario(&text, output)?;
         crate::out::print(&summary)

@@ -324,6 +324,8 @@ fn fuzzed_generator_options_give_loadable_scenarios_or_name_the_option() {
                 o.laws.k_fold = pick(&mut rng, 1.0);
                 o.laws.k_bending = pick(&mut rng, 0.1);
                 o.laws.c_translation = pick(&mut rng, 10.0);
+                // Left out half the time: the fold damping then follows the thickness.
+                o.laws.c_fold = if rng.below(2) == 0 { None } else { Some(pick(&mut rng, 0.05)) };
                 if rng.below(4) == 0 {
                     o.hub_inertia = Some([pick(&mut rng, 25.0), pick(&mut rng, 25.0), pick(&mut rng, 50.0)]);
                 }

@@ -356,10 +356,18 @@ fn a_packed_start_is_projected_from_its_opening() {
     assert!(g.status.success() && line.contains("its packed start opening at t = ") && !line.contains(said), "{line}");
     let opened_after: f64 =
         line.split(" s after ").nth(1).and_then(|r| r.split(' ').next()).and_then(|v| v.parse().ok()).unwrap();
-    let err = quiet_run_until(&dir, "t.toml", "note: foldsim run will take about", 120_000);
+    let err = run_until(&dir, "t.toml", "note: foldsim run will take about", 120_000);
     let note =
         err.lines().find(|l| l.starts_with("note: foldsim run will take about")).unwrap_or_else(|| panic!("{err}"));
     assert!(note.contains("its packed start opened at t = ") && !note.contains(said), "{note}");
+    // Before it, the progress lines give no figure from the packed start's pace.
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("foldsim run: ")).collect();
+    assert!(!lines.is_empty(), "{err}");
+    assert!(
+        lines.iter().all(|l| l.contains("time left projected once its packed start opens") || l.contains("about")),
+        "{err}"
+    );
+    assert!(lines[0].contains("projected once its packed start opens"), "{err}");
     let noted_after: f64 =
         note.split(" s after ").nth(1).and_then(|r| r.split(' ').next()).and_then(|v| v.parse().ok()).unwrap();
     // The note waits two seconds past the opening; the run's opening comes at about the
@@ -370,16 +378,23 @@ fn a_packed_start_is_projected_from_its_opening() {
     );
 }
 
-/// `foldsim run <scenario> -q --csv out.csv` started in `dir`, its standard error piped.
-fn spawn_quiet(dir: &std::path::Path, scenario: &str) -> std::process::Child {
-    foldsim().current_dir(dir).args(["run", scenario, "-q", "--csv", "out.csv"]).stderr(Stdio::piped()).spawn().unwrap()
+/// `foldsim run <scenario> --csv out.csv` started in `dir`, its standard error piped
+/// (`progress`: its progress lines every that many seconds; `None`: `-q`).
+fn spawn_run(dir: &std::path::Path, scenario: &str, progress: Option<&str>) -> std::process::Child {
+    let mut run = foldsim();
+    run.current_dir(dir).args(["run", scenario, "--csv", "out.csv"]).stderr(Stdio::piped());
+    match progress {
+        Some(every) => run.env("FOLDSIM_PROGRESS_EVERY", every),
+        None => run.arg("-q"),
+    };
+    run.spawn().unwrap()
 }
 
-/// What `foldsim run <scenario> -q` in `dir` says on standard error until a line starting
-/// with `until` (or `millis` ms; then stopped).
-fn quiet_run_until(dir: &std::path::Path, scenario: &str, until: &str, millis: u64) -> String {
+/// What `foldsim run <scenario>` in `dir` says on standard error, its progress lines every
+/// half second, until a line starting with `until` (or `millis` ms; then stopped).
+fn run_until(dir: &std::path::Path, scenario: &str, until: &str, millis: u64) -> String {
     use std::io::BufRead;
-    let mut child = spawn_quiet(dir, scenario);
+    let mut child = spawn_run(dir, scenario, Some("0.5"));
     let stderr = child.stderr.take().unwrap();
     let (send, receive) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
@@ -411,7 +426,7 @@ fn quiet_run_until(dir: &std::path::Path, scenario: &str, until: &str, millis: u
 /// What `foldsim run <scenario> -q` in `dir` says on standard error in its first `millis` ms
 /// (then stopped).
 fn quiet_run_for(dir: &std::path::Path, scenario: &str, millis: u64) -> String {
-    let mut child = spawn_quiet(dir, scenario);
+    let mut child = spawn_run(dir, scenario, None);
     std::thread::sleep(std::time::Duration::from_millis(millis));
     child.kill().unwrap();
     let o = child.wait_with_output().unwrap();

@@ -159,7 +159,12 @@ impl Watch {
         if self.lines && self.last_report.elapsed() >= self.every {
             self.last_report = Instant::now();
             let this = if self.runs > 1 { " in this run" } else { "" };
-            let left = if left.is_finite() {
+            // A packed start's own pace says nothing of the rest (docs/outputs.md): no
+            // figure until it opens or the note gives up waiting.
+            let waiting = self.phase.as_ref().is_some_and(|p| p.still_packed() && !p.seen(wall));
+            let left = if waiting {
+                "time left projected once its packed start opens".into()
+            } else if left.is_finite() {
                 format!("about {} left{this}", human_seconds(left))
             } else {
                 "time left unknown".into()

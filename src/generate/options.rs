@@ -227,9 +227,9 @@ pub const THIN_RUN: (&str, f64) = ("dop853", 1e-8);
 
 /// A thick flasher's (its panels in contact) unless given: SDIRK4 at 1e-5. Contact stiffens
 /// the stowed package beyond what explicit steps can take (the 6 × 3, 1 cm flasher under
-/// DOP853 at 1e-8 was projected at 8 h); with its folds damped at
-/// [`THICK_C_FOLD`] it runs its 5 s at 1e-5 in ~16 s with the
-/// energy balanced to ~3e-7 (1e-4: 12 s, 4e-6; docs/flasher.md, *Damped folds*).
+/// DOP853 at 1e-8 was projected at 8 h); with its folds damped at [`THICK_C_FOLD`] it runs
+/// its 5 s at 1e-5 in 18–22 s, the energy balanced to 3.4e-7 (at 1e-4 in ~12 s to 4e-6;
+/// 2-core AMD EPYC, load 1–2; docs/flasher.md, *Thick panels*).
 pub const THICK_RUN: (&str, f64) = ("sdirk4", 1e-5);
 
 impl Default for FlasherOptions {

@@ -335,27 +335,25 @@ fn an_overflowing_inertia_is_not_positive_definite() {
     assert!(e.is_none(), "a large but valid inertia is taken: {e:?}");
 }
 
-/// A thick flasher (6 × 3, 1 cm, as generated, 100 s long so that its run is long enough for
-/// a note) is projected from where its packed start opens, by the generator's trial and by
-/// the run's note alike: both name the opening and neither falls back on the packed start's
-/// caveat (`estimate::PACKED_START`); the note comes only after the opening (two seconds
-/// past it; the trial's opening, at its wall time, bounds it from below: the run is the
-/// trial's run). The
-/// projections' accuracy, 0.7–0.8 of the wall time on the 6 × 3 and the thick starshade, is
-/// measured in docs/outputs.md, not here (a test does not time).
+/// A thick flasher (6 × 3, 1 cm, as generated, 1,000 s long so that its run is projected well
+/// past the minute from which a note is written: at 100 s it was projected at 58 s on a
+/// loaded machine, and wrote none) is projected from where its packed start opens, by the
+/// generator's trial and by the run's note alike: both name the opening and neither falls
+/// back on the packed start's caveat (`estimate::PACKED_START`); the note comes two seconds
+/// past the opening it names. The projections' accuracy, 0.7–0.8 of the wall time on the
+/// 6 × 3 and the thick starshade, is measured in docs/outputs.md, not here (a test does not
+/// time).
 #[test]
 fn a_packed_start_is_projected_from_its_opening() {
     let dir = tmp("packed");
     let g = foldsim()
-        .args(["generate", "flasher", "--gores", "6", "--rings", "3", "--thickness", "0.01", "--duration", "100", "-o"])
+        .args("generate flasher --gores 6 --rings 3 --thickness 0.01 --duration 1000 -o".split(' '))
         .arg(dir.join("t.toml"))
         .output()
         .unwrap();
     let said = foldsim::simulate::estimate::PACKED_START;
     let line = text(&g).lines().find(|l| l.starts_with("expected run time")).unwrap_or_default().to_string();
     assert!(g.status.success() && line.contains("its packed start opening at t = ") && !line.contains(said), "{line}");
-    let opened_after: f64 =
-        line.split(" s after ").nth(1).and_then(|r| r.split(' ').next()).and_then(|v| v.parse().ok()).unwrap();
     let err = run_until(&dir, "t.toml", "note: foldsim run will take about", 120_000);
     let note =
         err.lines().find(|l| l.starts_with("note: foldsim run will take about")).unwrap_or_else(|| panic!("{err}"));
@@ -368,21 +366,19 @@ fn a_packed_start_is_projected_from_its_opening() {
         "{err}"
     );
     assert!(lines[0].contains("projected once its packed start opens"), "{err}");
-    let noted_after: f64 =
-        note.split(" s after ").nth(1).and_then(|r| r.split(' ').next()).and_then(|v| v.parse().ok()).unwrap();
-    // The note waits two seconds past the opening; the run's opening comes at about the
-    // trial's wall time, within a factor of two for a machine's changing load.
-    assert!(
-        noted_after > 0.5 * opened_after + 2.0,
-        "the note at {noted_after} s, the trial's opening at {opened_after} s"
-    );
+    // The note's own wall time and its run's opening's: it waits two seconds past it.
+    let seconds_after = |k: usize| -> f64 {
+        note.split(" s after ").nth(k).and_then(|r| r.split([' ', ';']).next()).and_then(|v| v.parse().ok()).unwrap()
+    };
+    let (noted_after, opened_after) = (seconds_after(1), seconds_after(2));
+    assert!(noted_after >= opened_after + 2.0 - 0.1, "the note at {noted_after} s, the opening at {opened_after} s");
 }
 
 /// `foldsim run <scenario> --csv out.csv` started in `dir`, its standard error piped
 /// (`progress`: its progress lines every that many seconds; `None`: `-q`).
 fn spawn_run(dir: &std::path::Path, scenario: &str, progress: Option<&str>) -> std::process::Child {
     let mut run = foldsim();
-    run.current_dir(dir).args(["run", scenario, "--csv", "out.csv"]).stderr(Stdio::piped());
+    run.current_dir(dir).args(["run", scenario, "--csv", "out.csv"]).stderr(Stdio::piped()).stdout(Stdio::null());
     match progress {
         Some(every) => run.env("FOLDSIM_PROGRESS_EVERY", every),
         None => run.arg("-q"),

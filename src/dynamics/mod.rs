@@ -324,8 +324,7 @@ impl<'m> Dynamics<'m> {
         if self.model.contact.is_none() {
             return 0;
         }
-        let hinged: std::collections::HashSet<(usize, usize)> =
-            self.model.hinges.iter().map(|h| h.bodies_sorted()).collect();
+        let hinged = self.model.hinged_pairs();
         let pairs: std::collections::HashSet<(usize, usize)> = self
             .contact_points(y)
             .iter()
@@ -384,8 +383,7 @@ impl<'m> Dynamics<'m> {
     /// Every contact episode so far (crate::contact::episodes), in the order they started,
     /// each marked `joined` where a hinge joins its two bodies.
     pub fn contact_episodes(&self) -> Vec<crate::contact::episodes::Episode> {
-        let joined: std::collections::HashSet<(usize, usize)> =
-            self.model.hinges.iter().map(|h| h.bodies_sorted()).collect();
+        let joined = self.model.hinged_pairs();
         let mut episodes = self.contact_log.borrow().episodes();
         for e in &mut episodes {
             e.joined = joined.contains(&e.bodies);

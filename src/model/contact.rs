@@ -24,6 +24,12 @@ pub fn default_spacing(shapes: &[&Shape]) -> f64 {
 }
 
 impl Model {
+    /// The pairs of bodies a hinge joins, each the lower index first (as contact and its
+    /// episodes name a pair).
+    pub fn hinged_pairs(&self) -> std::collections::HashSet<(usize, usize)> {
+        self.hinges.iter().map(|h| h.bodies_sorted()).collect()
+    }
+
     /// Turns contact on under `law`: every body with a shape takes part, sample points
     /// `spacing` m apart on solid bodies and thick plates (default [`default_spacing`]),
     /// no contact between the `excluded` pairs (body indices), and none along the crease of

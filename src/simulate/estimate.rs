@@ -70,9 +70,9 @@ pub const MOST_ACCELERATION: f64 = 1.4;
 /// 0.71–2.89 at 1.2, and 7–150 times before the trend was taken (docs/outputs.md).
 ///
 /// From a packed start ([`PACKED_PAIRS`]) no such trend can see when the package opens (the
-/// 6 × 3's first 4 s of a 20-s run reached 0.05 of its 5 s; the starshade's first 36 s of a
-/// 122-s run 0.13 of its 60 s), so its projection waits for the opening ([`Phase`]) and
-/// restarts the trend there ([`Trend::restart_opened`]): what came before counts as time
+/// 6 × 3's first 4 s of a 20-s run reached 0.05 of its 5 s, the starshade's first 36 s of a
+/// 122-s run 0.13 of its 60 s; 2-core AMD EPYC, load ~1.5), so its projection waits for the
+/// opening ([`Phase`]) and restarts the trend there ([`Trend::restart_opened`]): what came before counts as time
 /// spent, and what follows is taken at the cap's quickening, `p` = [`MOST_ACCELERATION`],
 /// since a deployment keeps speeding up while its parting layers still touch and after
 /// (the starshade's pace rose tenfold over the 13 s it took to unwrap). Measured on those

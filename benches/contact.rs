@@ -8,8 +8,8 @@
 //! Then full contact: the thick flasher example (`examples/flasher-thick.toml`, 5 gores, 2
 //! rings, 1-cm panels stowed in nested layers face to face, membrane hinges) over its first 0.05 s, where
 //! every layer presses on the next: its steps (and of the rejected, Newton's), pairs and
-//! points in contact per accepted step, and where the time goes (unit costs at the stowed
-//! state times how many of each the run made: right-hand sides, of which the contact part
+//! points in contact per accepted step, and where the time goes (unit costs at the run's
+//! middle, the right-hand side's at a trial state a mean step ahead, times how many of each the run made: right-hand sides, of which the contact part
 //! is the difference to the same state without `[contact]`, Jacobians with factorization,
 //! Newton solves).
 //! Then stacks of ten and fifty plates at rest (`stacks`).
@@ -23,6 +23,7 @@ use foldsim::integrate::OdeSystem;
 use foldsim::kinematics::initial_state;
 use foldsim::scenario::Scenario;
 use foldsim::simulate::simulate;
+use foldsim::simulate::stepper::Stepper;
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
@@ -143,7 +144,13 @@ fn stacks() {
 fn full_contact(repeat: usize) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
     let text = std::fs::read_to_string(dir.join("flasher-thick.toml")).expect("example");
-    let text = text.replace("duration = 1.3", "duration = 0.05");
+    // Its [run] duration cut to 0.05 s, whatever the example's is.
+    let text: String = text
+        .lines()
+        .map(|l| if l.starts_with("duration = ") { "duration = 0.05".to_string() } else { l.to_string() })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(text.contains("\nduration = 0.05"), "flasher-thick.toml has no [run] duration line");
     let s = Scenario::from_toml_in(&text, "flasher-thick-stowed", &dir).unwrap_or_else(|e| panic!("{e}"));
     let bare = Scenario::from_toml_in(text.split("\n[contact]").next().expect("text"), "bare", &dir)
         .unwrap_or_else(|e| panic!("{e}"));
@@ -184,24 +191,48 @@ fn full_contact(repeat: usize) {
         per_row.1 as f64 / rows,
         per_row.2 as f64 / rows
     );
-    let (y, refs) = initial_state(&s.model, &s.initial);
-    let dynamics = Dynamics::new(&s.model, refs.clone());
-    dynamics.initialize_memory(&y);
+    // Unit costs at the run's middle, as its steps see the package (at t = 0 the layers
+    // sit at exactly zero gap, every face sample touching: several times a step's cost).
+    let mut stepper = Stepper::start(&s.model, &s.initial, &s.settings).unwrap_or_else(|e| panic!("{e}"));
+    stepper.advance(0.5 * s.settings.duration).unwrap_or_else(|e| panic!("{e}"));
+    // Most right-hand sides are at a step's trial states (Newton's iterates), not at the
+    // accepted state the proximity list was measured at: time them one mean step ahead.
+    let (dynamics, y) = (stepper.dynamics(), stepper.state().to_vec());
     let mut f = vec![0.0; y.len()];
-    let rhs = per_call(|| OdeSystem::rhs(&dynamics, 0.0, black_box(&y), &mut f));
+    let at_accepted = per_call(|| OdeSystem::rhs(dynamics, 0.0, black_box(&y), &mut f));
+    let h = s.settings.duration / r.steps_accepted.max(1) as f64;
+    let y_trial: Vec<f64> = y.iter().zip(&f).map(|(y, f)| y + h * f).collect();
+    let mut f_trial = vec![0.0; y.len()];
+    let rhs = per_call(|| OdeSystem::rhs(dynamics, 0.0, black_box(&y_trial), &mut f_trial));
     let hinges_only = {
+        let (_, refs) = initial_state(&bare.model, &bare.initial);
         let d = Dynamics::new(&bare.model, refs);
         d.initialize_memory(&y);
         let mut g = vec![0.0; y.len()];
-        per_call(|| OdeSystem::rhs(&d, 0.0, black_box(&y), &mut g))
+        per_call(|| OdeSystem::rhs(&d, 0.0, black_box(&y_trial), &mut g))
     };
-    let mut newton = GraphNewton::new_exact(&dynamics, &s.model, &dynamics);
+    let at_start = {
+        let (y0, refs) = initial_state(&s.model, &s.initial);
+        let d = Dynamics::new(&s.model, refs);
+        d.initialize_memory(&y0);
+        let mut g = vec![0.0; y0.len()];
+        per_call(|| OdeSystem::rhs(&d, 0.0, black_box(&y0), &mut g))
+    };
+    println!(
+        "one right-hand side: {:.1} µs at the start (layers at exactly zero gap, every face sample touching); at the run's middle {:.1} µs at its accepted state, {:.1} µs a mean step ({h:.2e} s) ahead",
+        at_start * 1e6,
+        at_accepted * 1e6,
+        rhs * 1e6
+    );
+    let mut newton = GraphNewton::new_exact(dynamics, &s.model, dynamics);
     let jacobian = per_call(|| assert!(newton.prepare(0.0, &y, 1e-5)));
     let mut b = f.clone();
     let solve = per_call(|| {
         b.copy_from_slice(&f);
         newton.solve(&mut b);
     });
+    let t_mid = stepper.time();
+    let accept = per_call(|| dynamics.accept(t_mid, black_box(&y)).unwrap_or_else(|e| panic!("{e}")));
     let n_rhs = r.rhs_evaluations as f64;
     let parts = [
         ("rhs: contact", (rhs - hinges_only) * n_rhs, format!("{:.1} µs each", (rhs - hinges_only) * 1e6)),
@@ -212,8 +243,13 @@ fn full_contact(repeat: usize) {
             solve * (r.newton_iterations as f64 + r.steps_accepted as f64),
             format!("{:.1} µs each", solve * 1e6),
         ),
+        (
+            "accepting a step",
+            accept * r.steps_accepted as f64,
+            format!("{:.1} µs each: laws' memory, proximity list, contact memory", accept * 1e6),
+        ),
     ];
-    print_breakdown(&parts, wall);
+    print_breakdown(&parts, wall, "the run's middle");
 }
 
 /// The starshade deployed and flapping with and without contact (see the module

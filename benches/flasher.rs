@@ -108,5 +108,5 @@ fn main() {
             format!("{:.1} µs each", solve * 1e6),
         ),
     ];
-    print_breakdown(&parts, wall);
+    print_breakdown(&parts, wall, "the stowed state");
 }

@@ -26,11 +26,11 @@ pub fn per_call(mut f: impl FnMut()) -> f64 {
 }
 
 /// Prints where a run's `wall` seconds went: each part's (name, seconds, unit cost) as
-/// unit costs at the stowed state times counts, then the rest.
+/// unit costs at the state named by `at` times counts, then the rest.
 #[allow(dead_code)]
-pub fn print_breakdown(parts: &[(&str, f64, String)], wall: f64) {
+pub fn print_breakdown(parts: &[(&str, f64, String)], wall: f64, at: &str) {
     let mut accounted = 0.0;
-    println!("where the time goes (unit costs at the stowed state × counts):");
+    println!("where the time goes (unit costs at {at} × counts):");
     for (name, t, unit) in parts {
         accounted += t;
         println!("  {name:<28} {t:7.3} s  {:5.1} %  ({unit})", 100.0 * t / wall);

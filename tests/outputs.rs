@@ -1,7 +1,7 @@
 //! What a run writes, and when it must not: the output's size estimated and refused past a
 //! limit, columns chosen, rows flushed while a run goes, Ctrl-C answered, inputs never
 //! overwritten, an earlier run's output named, the rate columns right, rates given in rpm and
-//! °/s, and the generators bounded.
+//! °/s, the generators bounded, and hinge events past the report's twenty written to their table.
 
 mod common;
 
@@ -304,4 +304,72 @@ fn hinge_load_columns_carry_the_power_of_the_stored_energy() {
     eprintln!("dV/dt against the hinges' power: {worst:.2e} W of {scale:.2e} W");
     assert!(scale > 1e-3, "the hinges work: {scale} W");
     assert!(worst < 1e-4 * scale, "dV/dt differs from the hinges' power by {worst:e} W (scale {scale:e} W)");
+}
+
+/// A panel sprung against an undamped stop rattles on it: the report lists the first 20
+/// events and says how many more there are; `--events` writes every one (the report's count,
+/// in time order, alternately hitting and leaving the stop, each hit at the stop's angle).
+#[test]
+fn hinge_events_beyond_the_report_go_to_their_table() {
+    let dir = tmp("events");
+    let text = r#"
+[run]
+duration = 4.0
+output_step = 0.1
+integrator = "dop853"
+rtol = 1e-9
+atol = 1e-11
+
+[[body]]
+name = "hub"
+mass = 100.0
+inertia = [100.0, 100.0, 100.0]
+
+[[body]]
+name = "panel"
+mass = 1.0
+inertia = [0.1, 0.1, 0.1]
+
+[[hinge]]
+name = "h1"
+parent = "hub"
+child = "panel"
+a0 = { position = [0.5, 0.0, 0.0] }
+a = { child_com = [0.5, 0.0, 0.0] }
+law = { type = "directional", angles = "euler", x = "locked", y = "locked", z = "locked", rx = "locked", ry = "locked", rz = { k = 50.0, rest_deg = 30.0, stop = { at_deg = 0.0, free = "below", stiffness = 1e3, damping = 0.0 } } }
+
+[initial.hinge.h1]
+yaw_deg = -30.0
+"#;
+    let events = dir.join("events.csv");
+    let (ok, out, err) = run_text(&dir, text, &["--csv", dir.join("o.csv").to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let located: usize = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("hinge events: ")?.split(' ').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(located > 30, "{out}");
+    assert_eq!(out.lines().filter(|l| l.trim_start().starts_with("t = ")).count(), 20, "{out}");
+    assert!(out.contains(&format!("... {} more", located - 20)) && out.contains("--events FILE.csv"), "{out}");
+
+    let (ok, out, err) =
+        run_text(&dir, text, &["--csv", dir.join("o.csv").to_str().unwrap(), "--events", events.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(out.contains(&format!("every one in {}", events.display())), "{out}");
+    let table = std::fs::read_to_string(&events).unwrap();
+    let rows: Vec<Vec<&str>> = table.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(table.lines().next(), Some(foldsim::output::events::HEADER));
+    assert_eq!(rows.len(), located);
+    let times: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[0] < w[1]), "{times:?}");
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r[1], "\"h1\"");
+        assert_eq!(r[2], if i % 2 == 0 { "stop_hit" } else { "stop_left" }, "row {i}: {r:?}");
+    }
+    assert!(rows[0][3].contains("hits the stop at 0.000000"), "{:?}", rows[0]);
+    // Not over an input, and only as a CSV table.
+    let (ok, _, err) = run_text(&dir, text, &["--events", dir.join("s.toml").to_str().unwrap()]);
+    assert!(!ok && err.contains("--events"), "{err}");
+    let (ok, _, err) = run_text(&dir, text, &["--events", dir.join("e.txt").to_str().unwrap()]);
+    assert!(!ok && err.contains("--events") && err.contains("csv"), "{err}");
 }

@@ -1,4 +1,4 @@
-//! What a run writes: CSV rows as they are made ([`csv_sink`]) and read back with every
+//! What a run writes: CSV rows as they are made ([`csv_sink`]), its hinge events ([`events`]) and read back with every
 //! body's pose ([`table`]), PNG plots of output columns ([`plot`], feature `plot`) and of a
 //! fit's data against its run ([`fit_plot`]), and animated glTF files ([`animation`], feature
 //! `animation`).
@@ -6,6 +6,7 @@
 #[cfg(feature = "animation")]
 pub mod animation;
 pub mod csv_sink;
+pub mod events;
 #[cfg(feature = "plot")]
 pub mod fit_plot;
 pub mod npz;

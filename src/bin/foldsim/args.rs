@@ -38,6 +38,11 @@ pub enum Command {
         /// the stowed package told apart from impacts (docs/contact.md).
         #[arg(long)]
         contacts: Option<PathBuf>,
+        /// Also write every located hinge event (CSV): time, hinge, kind (a stop hit or left,
+        /// a latch), the law's description and the hinge's dissipated energy so far; the
+        /// report lists the first few (docs/outputs.md).
+        #[arg(long)]
+        events: Option<PathBuf>,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,

@@ -33,6 +33,7 @@ fn main() -> ExitCode {
             columns,
             large_output,
             contacts,
+            events,
             quiet,
             animation,
             animation_fps,
@@ -40,16 +41,15 @@ fn main() -> ExitCode {
         } => {
             let animation_target = animation.map(|path| (path, animation_fps));
             let page_target = page.as_deref().map(|p| (p, animation_fps));
-            run::run(&scenario, (csv, contacts), columns, large_output, quiet, animation_target, page_target).and_then(
-                |(csv, frames)| match (page, frames) {
+            run::run(&scenario, (csv, contacts, events), columns, large_output, quiet, animation_target, page_target)
+                .and_then(|(csv, frames)| match (page, frames) {
                     (Some(page), Some(frames)) => view::view_run(&scenario, &csv, &page, frames, quiet),
                     _ => Ok(()),
-                },
-            )
+                })
         }
         #[cfg(not(feature = "animation"))]
-        Command::Run { scenario, csv, columns, large_output, contacts, quiet } => {
-            run::run(&scenario, (csv, contacts), columns, large_output, quiet, None, None).map(|_| ())
+        Command::Run { scenario, csv, columns, large_output, contacts, events, quiet } => {
+            run::run(&scenario, (csv, contacts, events), columns, large_output, quiet, None, None).map(|_| ())
         }
         #[cfg(feature = "animation")]
         Command::Animate { scenario, csv, output, fps } => view::animate(&scenario, &csv, &output, fps),

@@ -6,7 +6,13 @@ use foldsim::scenario::Scenario;
 use foldsim::simulate::RunReport;
 use std::path::Path;
 
-pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
+/// How many located hinge events the report lists; the rest go to `--events`.
+const EVENTS_LISTED: usize = 20;
+
+/// Prints a finished run's report: what ran, the drift of its invariants, contact,
+/// deployment and its first hinge events (all of them in `events`, the `--events` table,
+/// when given).
+pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path, events: Option<&Path>) {
     let d = &r.drift;
     let rel = |x: f64, scale: f64| if scale > 0.0 { x / scale } else { x };
     outln!("foldsim run: {}", scenario.title.as_deref().unwrap_or("(untitled)"));
@@ -272,9 +278,17 @@ pub(crate) fn print_report(scenario: &Scenario, r: &RunReport, csv: &Path) {
             r.branch_events
         );
     }
-    for e in &r.events {
+    for e in r.events.iter().take(EVENTS_LISTED) {
         let h = &scenario.model.hinges[e.hinge];
         outln!("    t = {:.9} s  {}: {}", e.t, h.name, e.description);
+    }
+    if r.events.len() > EVENTS_LISTED {
+        let rest = r.events.len() - EVENTS_LISTED;
+        let last = r.events.last().map_or(0.0, |e| e.t);
+        match events {
+            Some(path) => outln!("    ... {rest} more to t = {last:.6} s: every one in {}", path.display()),
+            None => outln!("    ... {rest} more to t = {last:.6} s (--events FILE.csv writes every one)"),
+        }
     }
     for (i, e) in r.events.iter().enumerate() {
         let first_latch = r.events[..i].iter().all(|p| p.hinge != e.hinge || p.kind != EventKind::Latch);

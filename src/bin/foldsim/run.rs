@@ -21,7 +21,7 @@ pub(crate) const BYTES_PER_FIELD: f64 = 22.0;
 
 pub(crate) fn run(
     path: &Path,
-    (csv, contacts): (Option<PathBuf>, Option<PathBuf>),
+    (csv, contacts, events): (Option<PathBuf>, Option<PathBuf>, Option<PathBuf>),
     columns: Option<Vec<String>>,
     large_output: bool,
     quiet: bool,
@@ -67,9 +67,15 @@ pub(crate) fn run(
         }
         outputs.push(("--contacts", c));
     }
+    if let Some(e) = &events {
+        outputs.push(("--events", e));
+    }
     check_outputs(&scenario.inputs, &outputs)?;
     if let Some(c) = &contacts {
         check_extension("--contacts", c, "csv", "a CSV table")?;
+    }
+    if let Some(e) = &events {
+        check_extension("--events", e, "csv", "a CSV table")?;
     }
     // Then each named as what it holds (after the checks against overwriting an input).
     use foldsim::output::paths::{GLB, HTML, check_extension};
@@ -154,7 +160,7 @@ pub(crate) fn run(
         Ok(report) => {
             let written = sink.finish()?;
             if !quiet {
-                crate::report::print_report(&scenario, &report, &written);
+                crate::report::print_report(&scenario, &report, &written, events.as_deref());
             }
             if let Some(f) = frames.as_mut() {
                 f.finish();
@@ -165,10 +171,12 @@ pub(crate) fn run(
             if let Some(c) = &contacts {
                 let names: Vec<&str> = scenario.model.bodies.iter().map(|b| b.name.as_str()).collect();
                 let table = foldsim::contact::episodes::episodes_csv(&report.contact_episodes, &names);
-                foldsim::output::paths::write_atomically(c, table.as_bytes())?;
-                if !quiet {
-                    outln!("  contact episodes {} -> {}", report.contact_episodes.len(), c.display());
-                }
+                write_table(c, &table, ("contact episodes", report.contact_episodes.len()), quiet)?;
+            }
+            if let Some(e) = &events {
+                let names: Vec<&str> = scenario.model.hinges.iter().map(|h| h.name.as_str()).collect();
+                let table = foldsim::output::events::events_csv(&report.events, &names);
+                write_table(e, &table, ("hinge events", report.events.len()), quiet)?;
             }
             Ok((written, frames))
         }
@@ -207,6 +215,16 @@ impl Frames {
 
 #[cfg(not(feature = "animation"))]
 pub(crate) fn write_animation(_: &foldsim::model::Model, _: &Frames, _: &Path, _: bool) -> Result<(), String> {
+    Ok(())
+}
+
+/// Writes a finished run's side table (`--contacts`, `--events`) whole, and says so: `what`
+/// it holds and how many rows.
+fn write_table(path: &Path, table: &str, (what, rows): (&str, usize), quiet: bool) -> Result<(), String> {
+    foldsim::output::paths::write_atomically(path, table.as_bytes())?;
+    if !quiet {
+        outln!("  {what:<16} {rows} -> {}", path.display());
+    }
     Ok(())
 }
 

@@ -563,3 +563,21 @@ fn contact_episodes_tell_resting_from_impacts() {
         .unwrap();
     assert!(!o.status.success() && text(&o).contains("no [contact]"), "{}", text(&o));
 }
+
+/// A hinge lever many orders beyond its body's size (the fuzzer's `a.child_com` z of 1e12 m
+/// on the thick example, whose SDIRK4 Newton matrix then has a singular pivot block) stops
+/// the run with the hinge, the key and the ratio named, not a bare "singular pivot block".
+#[test]
+fn a_singular_newton_matrix_names_the_far_hinge() {
+    let line = "a = { child_com = [0.46011806451532333, 0.0, 0.09249013370148257], yaw = 3.141592653589793, pitch = -0.9424777960769378, roll = 1.5707963267948966 }";
+    let far = line.replace("0.09249013370148257", "1e12");
+    let s = edited("flasher-thick.toml", &[(line, &far)]).unwrap();
+    assert!(s.warnings.iter().any(|w| w.contains("h23_p33_p34") && w.contains("a.child_com")), "{:?}", s.warnings);
+    let mut sink = |_: &foldsim::observe::Observation| -> Result<(), String> { Ok(()) };
+    let e = foldsim::simulate::simulate(&s.model, &s.initial, &s.settings, &mut sink, None).unwrap_err().to_string();
+    for w in
+        ["Newton matrix", "singular pivot block, body '", "hinge 'h23_p33_p34''s a.child_com", "times its body's size"]
+    {
+        assert!(e.contains(w), "{w} not in: {e}");
+    }
+}

@@ -154,6 +154,9 @@ pub struct GraphNewton<'a, S: OdeSystem + ?Sized> {
     /// The last exact Jacobian's blocks but the contact's (`jac_x`, `jac_v`), kept for
     /// [`NewtonMatrix::refresh_contact`]; `None` without contact or with locks.
     rest: Option<RestBlocks>,
+    /// The node whose pivot block was singular in the last factorization that failed (a
+    /// body, or `nb + g` for the locks of `groups[g]`).
+    singular: Option<usize>,
 }
 
 /// A Jacobian's blocks as `GraphNewton` keeps them: per body, per neighbour, `∂a_i/∂x_j`
@@ -235,6 +238,7 @@ impl<'a, S: OdeSystem + ?Sized> GraphNewton<'a, S> {
             group_rows: Vec::new(),
             edges: edges.clone(),
             rest: None,
+            singular: None,
         };
         // With an exact Jacobian the locks are rows of the system (`groups`), and bodies couple
         // along hinges only.
@@ -583,7 +587,10 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
             None => {
                 let mut pattern = vec![Vec::new(); self.nb + self.groups.len()];
                 self.twist_entries(h_gamma, &mut |i, j, _| pattern[i].push(j));
-                let Some(s) = Symbolic::new(&pattern, &self.order, &self.position, &self.groups) else { return false };
+                let Some(s) = Symbolic::new(&pattern, &self.order, &self.position, &self.groups) else {
+                    self.singular = None;
+                    return false;
+                };
                 if self.symbolic.len() == 2 {
                     self.symbolic.remove(0);
                 }
@@ -598,9 +605,14 @@ impl<S: OdeSystem + ?Sized> NewtonMatrix for GraphNewton<'_, S> {
         self.twist_entries(h_gamma, &mut |i, j, b| {
             values[symbolic.slot(i, j).expect("the pattern holds every block")] += b;
         });
-        let ok = self.symbolic[k].eliminate(&mut values, &mut self.pivots, &mut self.upper, &mut self.lower);
+        let eliminated = self.symbolic[k].eliminate(&mut values, &mut self.pivots, &mut self.upper, &mut self.lower);
         self.values = values;
-        ok
+        self.singular = eliminated.err();
+        eliminated.is_ok()
+    }
+
+    fn singular_block(&self) -> Option<usize> {
+        self.singular
     }
 
     fn solve(&mut self, rhs: &mut [f64]) {

@@ -168,7 +168,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
     let mut h = limits.first_step.unwrap_or(start).min(fixed.unwrap_or(f64::INFINITY)).min(tf - t0);
     stats.jacobians += 1;
     if !newton.prepare(t, &y, newton_h(h)) {
-        return Err(OdeError::SingularNewton { t, h });
+        return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
     }
     let mut prepared_h = h;
     let mut fresh_jacobian = true;
@@ -207,7 +207,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
         }
         if (h - prepared_h).abs() > 1e-12 * h && !stats.refactor(&mut *newton, newton_h(h)) {
-            return Err(OdeError::SingularNewton { t, h });
+            return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
         }
         prepared_h = h;
         if fixed.is_none() && history && h != h_valid {
@@ -303,13 +303,13 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
                 h *= 0.5;
                 forced = false;
                 if !stats.refactor(&mut *newton, newton_h(h)) {
-                    return Err(OdeError::SingularNewton { t, h });
+                    return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
                 }
             } else {
                 fresh_jacobian = true;
                 stats.jacobians += 1;
                 if !newton.prepare(t, &y, newton_h(h)) {
-                    return Err(OdeError::SingularNewton { t, h });
+                    return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
                 }
             }
             prepared_h = h;
@@ -503,7 +503,7 @@ pub fn integrate_generalized_alpha<S: OdeSystem + ?Sized, E>(
             fresh_jacobian = true;
             stats.jacobians += 1;
             if !newton.prepare(t, &y, newton_h(h)) {
-                return Err(OdeError::SingularNewton { t, h });
+                return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
             }
             prepared_h = h;
         }

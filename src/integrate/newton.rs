@@ -27,6 +27,12 @@ pub trait NewtonMatrix {
     fn solve(&mut self, b: &mut [f64]);
     /// Right-hand-side evaluations spent forming Jacobians so far.
     fn evaluations(&self) -> usize;
+    /// After a factorization that failed: the unknown block whose pivot was singular, as
+    /// the implementation numbers its blocks (`GraphNewton`: the bodies in model order, then
+    /// one per locked hinge it carries), if it knows.
+    fn singular_block(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// A dense Newton matrix: the Jacobian by forward differences, an LU factorization. Its cost

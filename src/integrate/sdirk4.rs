@@ -81,7 +81,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
     let mut retried: Option<bool> = None;
     stats.jacobians += 1;
     if !newton.prepare(t, &y, h * GAMMA) {
-        return Err(OdeError::SingularNewton { t, h });
+        return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
     }
     let mut prepared_h = h;
     let mut z: Vec<Vec<f64>> = vec![vec![0.0; n]; 5];
@@ -160,7 +160,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
             return Err(OdeError::TooManySteps { t, h, steps: stats.accepted + stats.rejected, y: y.to_vec() });
         }
         if (h - prepared_h).abs() > 1e-12 * h && !stats.refactor(&mut *newton, h * GAMMA) {
-            return Err(OdeError::SingularNewton { t, h });
+            return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
         }
         prepared_h = h;
         // Stages: Z_i − hγ f(y + Z_i) = h Σ_{j<i} a_ij f(y + Z_j).
@@ -276,7 +276,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 // The Jacobian is current: shrink the step.
                 h *= 0.5;
                 if !stats.refactor(&mut *newton, h * GAMMA) {
-                    return Err(OdeError::SingularNewton { t, h });
+                    return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
                 }
             } else {
                 // Retry with a fresh Jacobian before shrinking the step.
@@ -290,7 +290,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                     newton.prepare(t, &y, h * GAMMA)
                 };
                 if !ok {
-                    return Err(OdeError::SingularNewton { t, h });
+                    return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
                 }
             }
             prepared_h = h;
@@ -411,7 +411,7 @@ pub fn integrate_sdirk4<S: OdeSystem + ?Sized, E>(
                 fresh_jacobian = true;
                 stats.jacobians += 1;
                 if !newton.prepare(t, &y, h * GAMMA) {
-                    return Err(OdeError::SingularNewton { t, h });
+                    return Err(OdeError::SingularNewton { t, h, block: newton.singular_block() });
                 }
                 prepared_h = h;
             }

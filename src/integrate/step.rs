@@ -166,6 +166,8 @@ pub enum OdeError<E> {
         t: f64,
         /// Step size tried.
         h: f64,
+        /// The block whose pivot was singular ([`crate::integrate::NewtonMatrix::singular_block`]).
+        block: Option<usize>,
     },
     /// The right-hand side produced a non-finite value.
     NonFinite {

@@ -92,7 +92,7 @@ impl BlockMatrix {
             }
         }
         let (mut pivots, mut upper, mut lower) = (Vec::new(), Vec::new(), Vec::new());
-        symbolic.eliminate(&mut values, &mut pivots, &mut upper, &mut lower).then_some(Factors {
+        symbolic.eliminate(&mut values, &mut pivots, &mut upper, &mut lower).is_ok().then_some(Factors {
             order,
             pivots,
             lower,

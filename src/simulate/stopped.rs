@@ -53,10 +53,17 @@ pub(super) fn stopped(
             };
             SimError::Integrator { t, message }
         }
-        OdeError::SingularNewton { t, h } => SimError::Integrator {
+        OdeError::SingularNewton { t, h, block } => SimError::Integrator {
             t,
             message: format!(
-                "the implicit integrator's Newton matrix I − hγJ could not be factored at a step of {h:.3e} s (a singular pivot block): a structure whose locked directions are redundant (locks closing a loop of locked hinges) does this; otherwise it is a fault in foldsim, please report it with the scenario. integrator = \"dop853\" does not need the matrix"
+                "the implicit integrator's Newton matrix I − hγJ could not be factored at a step of {h:.3e} s (a singular pivot block{}): {}otherwise it is a fault in foldsim, please report it with the scenario. integrator = \"dop853\" does not need the matrix",
+                singular_where(model, block),
+                match farthest_hinge(model) {
+                    Some((what, ratio)) if ratio > FAR_LEVER => format!(
+                        "{what}, {ratio:.1e} times its body's size: f64 keeps too few digits for the rest of the structure beside such a length (a length in mm where m was meant?); give it in the body's scale. A structure whose locked directions are redundant (locks closing a loop of locked hinges) does this too; "
+                    ),
+                    _ => "a structure whose locked directions are redundant (locks closing a loop of locked hinges) does this; ".to_string(),
+                }
             ),
         },
         OdeError::TooManySteps { t, h, steps, y } => {
@@ -78,4 +85,55 @@ pub(super) fn stopped(
             }
         }
     }
+}
+
+/// Where the Newton matrix's singular pivot block is, in words: `block` numbers the bodies
+/// in model order, then the locked hinges carried as constraint rows
+/// (`crate::dynamics::newton::GraphNewton`).
+fn singular_where(model: &crate::model::Model, block: Option<usize>) -> String {
+    let Some(b) = block else { return String::new() };
+    let Some(body) = model.bodies.get(b) else { return ", in a locked hinge's constraint rows".to_string() };
+    let hinges: Vec<&str> =
+        model.hinges.iter().filter(|h| h.parent == b || h.child == b).map(|h| h.name.as_str()).take(6).collect();
+    format!(", body '{}''s, joined by hinges {}", body.name, hinges.join(", "))
+}
+
+/// A hinge lever this many times its body's size leaves the Newton matrix's other entries
+/// below f64's resolution (1e-16 relative) once squared into its inertia terms.
+const FAR_LEVER: f64 = 1e6;
+
+/// The hinge placed farthest from a body's centre of mass against the body's size (its
+/// radius of gyration, √(tr I / m), at least 1 mm): the key and hinge in words, and the ratio.
+fn farthest_hinge(model: &crate::model::Model) -> Option<(String, f64)> {
+    let size = |b: usize| {
+        let body = &model.bodies[b];
+        (body.inertia_in_body.trace() / body.mass).sqrt().max(1e-3)
+    };
+    model
+        .hinges
+        .iter()
+        .flat_map(|h| {
+            [
+                (
+                    format!(
+                        "hinge '{}''s a0.position is {:.3e} m from body '{}''s centre of mass",
+                        h.name,
+                        h.r_a0_in_parent.norm(),
+                        model.bodies[h.parent].name
+                    ),
+                    h.r_a0_in_parent.norm() / size(h.parent),
+                ),
+                (
+                    format!(
+                        "hinge '{}''s a.child_com puts body '{}''s centre of mass {:.3e} m from the hinge",
+                        h.name,
+                        model.bodies[h.child].name,
+                        h.r_child_in_a.norm()
+                    ),
+                    h.r_child_in_a.norm() / size(h.child),
+                ),
+            ]
+        })
+        .filter(|(_, r)| r.is_finite())
+        .max_by(|a, b| a.1.total_cmp(&b.1))
 }

@@ -112,14 +112,14 @@ impl Symbolic {
     /// Eliminates the matrix whose blocks are in `values` (by slot; overwritten): per node,
     /// its pivot block's inverse in `pivots`, the multipliers `L[i][p]` in `lower[p]` and
     /// its row's later blocks `U[p][j]` in `upper[p]` (each resized to the node count).
-    /// False if a pivot block is singular.
+    /// Fails with the node whose pivot block is singular.
     pub(crate) fn eliminate(
         &self,
         values: &mut [Block],
         pivots: &mut Vec<Block>,
         upper: &mut Vec<Vec<(usize, Block)>>,
         lower: &mut Vec<Vec<(usize, Block)>>,
-    ) -> bool {
+    ) -> Result<(), usize> {
         let n = self.pivot.len();
         pivots.resize(n, Block::zeros());
         upper.resize(n, Vec::new());
@@ -129,7 +129,7 @@ impl Symbolic {
             let pivot = values[self.pivot[p]];
             // The pivot's inverse (by LU): the multipliers are products with it, and so is
             // each solve's step.
-            let Some(inverse) = pivot.lu().try_inverse() else { return false };
+            let Some(inverse) = pivot.lu().try_inverse() else { return Err(p) };
             upper[p].clear();
             upper[p].extend(self.upper[p].iter().map(|&(j, s)| (j, values[s])));
             lower[p].clear();
@@ -141,6 +141,6 @@ impl Symbolic {
             }
             pivots[p] = inverse;
         }
-        true
+        Ok(())
     }
 }
